@@ -1,0 +1,1 @@
+"""The robot's brain: field map, vision, localization, world model and behaviors."""

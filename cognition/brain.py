@@ -1,0 +1,53 @@
+"""The brain interface: one instance per robot, called once per cognition frame.
+
+A brain receives the robot's :class:`~cognition.representations.SensorFrame` and returns a
+:class:`~cognition.representations.BrainOutput` (motion request and optional team message).
+That is all a real robot's cognition gets, so a brain written against this interface could
+run on a robot.
+
+The single exception is the *oracle* input: a brain whose ``uses_oracle`` attribute is
+``True`` also receives an :class:`~cognition.oracle.OracleInput` with ground truth. Oracle
+brains exist for baselines and for the foundation's scripted players; every other brain gets
+``None`` there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+from cognition.field import Field
+from cognition.oracle import OracleInput
+from cognition.representations import BrainOutput, SensorFrame
+
+
+@dataclass(frozen=True)
+class BrainContext:
+    """Static facts a brain is told once, before the first frame."""
+
+    team_number: int
+    """Own team number (GameController numbering)."""
+    player_number: int
+    """Own player number, 1-based; 1 is the goalkeeper."""
+    players_per_team: int
+    """Number of players in each team."""
+    field: Field
+    """The field map."""
+    cognition_hz: float
+    """Cognition frames per second."""
+
+
+@runtime_checkable
+class Brain(Protocol):
+    """A robot's cognition."""
+
+    uses_oracle: bool
+    """``True`` only for oracle brains that read ground truth."""
+
+    def reset(self, context: BrainContext) -> None:
+        """Prepare for a new match."""
+        ...
+
+    def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
+        """Process one frame and decide what to do."""
+        ...

@@ -1,0 +1,199 @@
+"""Robot-facing representations: what a robot senses each cognition frame and what it asks for.
+
+These types cross the boundary between the simulator (or a real robot) and a brain. They
+hold only what a robot can know; ground truth never appears here (see
+:mod:`cognition.oracle` for the one explicit exception used by oracle brains).
+
+Frames used below:
+
+* **robot frame**: metres and radians, origin between the feet, +x forward, +y left,
+  angles counter-clockwise.
+* **team frame**: the field frame of :mod:`cognition.field`, origin at the centre, +x toward
+  the opponent goal.
+
+=====================  ==================================================================
+type                   content
+=====================  ==================================================================
+OdometryReading        motion since the previous frame in the previous robot frame
+HeadState              head yaw/pitch (rad) and their rates (rad/s)
+TeamMessageIn          a teammate's message as received (bytes, sender, send time)
+SensorFrame            everything one robot senses in one cognition frame
+WalkRequest            forward/sideways (m/s) and turn (rad/s) in the robot frame
+KickRequest            kick direction (rad, robot frame) and strength in [0, 1]
+HeadRequest            target yaw/pitch (rad), max speed (rad/s), camera to read
+MotionRequest          walk or kick, plus head
+BrainOutput            motion request and an optional team message (<= 128 bytes)
+=====================  ==================================================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+from cognition.gamestate import TEAM_MESSAGE_MAX_BYTES, GameControlData
+
+
+def _check_finite(owner: str, **values: float) -> None:
+    for name, v in values.items():
+        if not math.isfinite(v):
+            raise ValueError(f"{owner}.{name} must be a finite number, got {v!r}")
+
+
+@dataclass(frozen=True)
+class OdometryReading:
+    """Reported own motion since the previous cognition frame.
+
+    Expressed in the robot frame of the previous frame: ``dx`` forward (m), ``dy`` left (m),
+    ``dtheta`` counter-clockwise rotation (rad). This is what the walking engine believes it
+    did, with its errors; it is not ground truth.
+    """
+
+    dx: float = 0.0
+    dy: float = 0.0
+    dtheta: float = 0.0
+
+
+@dataclass(frozen=True)
+class HeadState:
+    """Measured head joint angles and rates (relative to the torso)."""
+
+    yaw: float = 0.0
+    """Head yaw (rad), positive to the left."""
+    pitch: float = 0.0
+    """Head pitch (rad), positive looks down."""
+    yaw_rate: float = 0.0
+    """Yaw angular rate (rad/s)."""
+    pitch_rate: float = 0.0
+    """Pitch angular rate (rad/s)."""
+    camera: Literal["upper", "lower"] = "upper"
+    """The camera read in this frame."""
+
+
+@dataclass(frozen=True)
+class TeamMessageIn:
+    """A team message as a robot receives it."""
+
+    sender: int
+    """Player number of the sender (1-based)."""
+    payload: bytes
+    """The raw message (at most 128 bytes)."""
+    sent_at: float
+    """Game time when it was sent (s since match start)."""
+
+
+@dataclass(frozen=True)
+class SensorFrame:
+    """Everything one robot senses in one cognition frame.
+
+    ``percepts`` and ``image`` are filled by the camera model of later stages; the
+    foundation leaves both ``None``.
+    """
+
+    time: float
+    """Time of the frame (s since match start)."""
+    frame_index: int
+    """Counter of this robot's cognition frames, starting at 0."""
+    team_number: int
+    """Own team number as used by the GameController."""
+    player_number: int
+    """Own player number (1-based)."""
+    odometry: OdometryReading
+    head: HeadState
+    game: GameControlData
+    """The latest GameController packet."""
+    picked_up: bool = False
+    """Both feet are off the ground (foot pressure sensors)."""
+    fallen: bool = False
+    """The robot lies on the ground (inertial sensors) and is getting up."""
+    messages: tuple[TeamMessageIn, ...] = ()
+    """Team messages received since the previous frame."""
+    percepts: object | None = None
+    """Synthesized percepts (fast observation path), when the match provides them."""
+    image: object | None = None
+    """Rendered camera image (image observation path), when the match provides it."""
+
+    @property
+    def penalty(self) -> int:
+        """Own penalty code from the game state (0 when playing)."""
+        return int(self.game.team(self.team_number).players[self.player_number - 1].penalty)
+
+
+@dataclass(frozen=True)
+class WalkRequest:
+    """Walk command in the robot frame; the walking engine clips it to its limits."""
+
+    forward: float = 0.0
+    """Forward speed (m/s)."""
+    left: float = 0.0
+    """Sideways speed (m/s), positive to the left."""
+    turn: float = 0.0
+    """Turn rate (rad/s), counter-clockwise."""
+
+    def __post_init__(self) -> None:
+        _check_finite("WalkRequest", forward=self.forward, left=self.left, turn=self.turn)
+
+
+@dataclass(frozen=True)
+class KickRequest:
+    """A kick of the ball in front of the feet."""
+
+    direction: float = 0.0
+    """Intended ball direction (rad, robot frame)."""
+    strength: float = 1.0
+    """Fraction of the strongest kick, in [0, 1]."""
+
+    def __post_init__(self) -> None:
+        _check_finite("KickRequest", direction=self.direction, strength=self.strength)
+        if not 0.0 <= self.strength <= 1.0:
+            raise ValueError(f"KickRequest.strength must be in [0, 1], got {self.strength}")
+
+
+@dataclass(frozen=True)
+class HeadRequest:
+    """Head motion target; the joints move there at most at ``speed``."""
+
+    yaw: float = 0.0
+    """Target yaw (rad)."""
+    pitch: float = 0.3
+    """Target pitch (rad), positive looks down."""
+    speed: float = 4.0
+    """Maximum angular speed (rad/s)."""
+    camera: Literal["upper", "lower"] = "upper"
+    """The camera to read in the next frame."""
+
+    def __post_init__(self) -> None:
+        _check_finite("HeadRequest", yaw=self.yaw, pitch=self.pitch, speed=self.speed)
+        if self.speed <= 0:
+            raise ValueError(f"HeadRequest.speed must be > 0, got {self.speed}")
+        if self.camera not in ("upper", "lower"):
+            raise ValueError(f"HeadRequest.camera must be 'upper' or 'lower', got {self.camera!r}")
+
+
+@dataclass(frozen=True)
+class MotionRequest:
+    """What the body should do until the next cognition frame.
+
+    With ``kick`` set the robot kicks (if the ball is in reach the ball is struck, otherwise
+    the kick misses) and ignores ``walk`` until the kick motion has finished.
+    """
+
+    walk: WalkRequest = field(default_factory=WalkRequest)
+    kick: KickRequest | None = None
+    head: HeadRequest = field(default_factory=HeadRequest)
+
+
+@dataclass(frozen=True)
+class BrainOutput:
+    """A brain's answer to one sensor frame."""
+
+    motion: MotionRequest = field(default_factory=MotionRequest)
+    message: bytes | None = None
+    """Team message to broadcast now, at most 128 bytes, or ``None``."""
+
+    def __post_init__(self) -> None:
+        if self.message is not None and len(self.message) > TEAM_MESSAGE_MAX_BYTES:
+            raise ValueError(
+                f"team message has {len(self.message)} bytes; at most {TEAM_MESSAGE_MAX_BYTES} are allowed"
+            )

@@ -1,0 +1,440 @@
+"""A match: the world, the referee, the team channel and one brain per robot.
+
+Physics runs at ``physics.physics_hz`` (100 Hz by default) and cognition at
+``cognition_hz`` (30 Hz). At each cognition frame every robot gets a
+:class:`~cognition.representations.SensorFrame` (odometry since its previous frame, head
+state, the GameController packet, received team messages, picked-up and fallen signals),
+its brain answers with a motion request and an optional team message, and the body executes
+that request until the next frame. Only brains that declare ``uses_oracle`` also get the
+ground truth (:class:`~cognition.oracle.OracleInput`).
+
+All randomness comes from one ``numpy.random.SeedSequence`` built from ``seed``, spawned
+into one generator per consumer in a fixed order, so a seed and a configuration give an
+identical match.
+
+=======================  ==========  =============================================
+MatchConfig field        default     meaning
+=======================  ==========  =============================================
+seed                     0           root of all randomness
+players_per_team         5           1..7
+field                    spl2025     field preset (spl2025, spl2013, kidsize)
+colours                  classic     colour scheme (classic, modern, kidsize)
+cognition_hz             30          cognition frames per second
+physics                  PhysicsParams  world and robot bodies
+referee                  RefereeParams  rules and timing (half_seconds, rules, ...)
+odometry                 OdometryParams odometry error model
+channel                  ChannelParams  team-message delay, loss, budget
+events                   ()          scripted events (kidnap, penalties, ...)
+=======================  ==========  =============================================
+"""
+
+from __future__ import annotations
+
+import math
+import time as wallclock
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from dataclasses import field as dataclass_field
+from typing import Any
+
+import numpy as np
+
+from cognition.brain import Brain, BrainContext
+from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_field
+from cognition.gamestate import GameControlData, GameStateId, Penalty
+from cognition.oracle import OracleInput, OraclePose
+from cognition.representations import SensorFrame
+from teamsim.channel import ChannelParams, TeamChannel
+from teamsim.events import (
+    EventLog,
+    ForceFall,
+    ForcePenalty,
+    Kidnap,
+    PlaceBall,
+    ScriptedEvent,
+)
+from teamsim.odometry import OdometryModel, OdometryParams, TrueOdometry
+from teamsim.params import check_choice, check_positive, from_mapping
+from teamsim.placement import world_to_team
+from teamsim.referee import Referee, RefereeParams
+from teamsim.state import WorldSnapshot
+from teamsim.world import PhysicsParams, World
+
+MAX_PLAYERS_PER_TEAM = 7
+
+
+@dataclass(frozen=True)
+class MatchConfig:
+    """Everything that defines a match (see the module table)."""
+
+    seed: int = 0
+    players_per_team: int = 5
+    field: str = "spl2025"
+    colours: str = "classic"
+    cognition_hz: float = 30.0
+    physics: PhysicsParams = dataclass_field(default_factory=PhysicsParams)
+    referee: RefereeParams = dataclass_field(default_factory=RefereeParams)
+    odometry: OdometryParams = dataclass_field(default_factory=OdometryParams)
+    channel: ChannelParams = dataclass_field(default_factory=ChannelParams)
+    events: tuple[ScriptedEvent, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"MatchConfig.seed must be an integer >= 0, got {self.seed!r}")
+        ppt = self.players_per_team
+        if not isinstance(ppt, int) or not 1 <= ppt <= MAX_PLAYERS_PER_TEAM:
+            raise ValueError(
+                f"MatchConfig.players_per_team must be an integer in 1..{MAX_PLAYERS_PER_TEAM}, got {ppt!r}"
+            )
+        check_choice("MatchConfig", "field", self.field, FIELD_PRESETS)
+        check_choice("MatchConfig", "colours", self.colours, COLOUR_SCHEMES)
+        check_positive("MatchConfig", cognition_hz=self.cognition_hz)
+        if self.cognition_hz > self.physics.physics_hz:
+            raise ValueError(
+                f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
+            )
+        for ev in self.events:
+            if not isinstance(ev, Kidnap | PlaceBall | ForcePenalty | ForceFall):
+                raise TypeError(f"unknown scripted event {ev!r}")
+            if hasattr(ev, "number") and ev.number > ppt:
+                raise ValueError(f"{type(ev).__name__} names player {ev.number} but teams have {ppt}")
+
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any]) -> MatchConfig:
+        """Build a config from a plain mapping (e.g. JSON); unknown keys are an error."""
+        data = dict(data)
+        if "events" in data:
+            raise ValueError("MatchConfig.from_mapping: give scripted events in code, not in the mapping")
+        return from_mapping(cls, data)
+
+
+BrainFactory = Callable[[int, int], Brain]
+"""Makes the brain of (team index, player number)."""
+
+
+def oracle_brains(team: int, number: int) -> Brain:
+    """The default brain factory: scripted oracle players."""
+    from cognition.behaviors.oracle_players import OracleBrain
+
+    return OracleBrain()
+
+
+@dataclass
+class MatchSummary:
+    """The outcome of a match, as printed by ``teamsim match``."""
+
+    seed: int
+    players_per_team: int
+    field: str
+    score: tuple[int, int]
+    goals: list[tuple[float, int, int]]
+    """(time s, team index, half) per goal."""
+    kickoffs: list[tuple[float, int]]
+    penalties: list[tuple[float, int, int, int]]
+    """(time s, team index, player number, penalty code)."""
+    returns: list[tuple[float, int, int]]
+    half_time: float | None
+    side_switch: bool
+    set_plays: int
+    placements: int
+    messages_sent: tuple[int, int]
+    sim_seconds: float
+    wall_seconds: float
+    physics_steps: int
+
+    @property
+    def real_time_factor(self) -> float:
+        """Simulated seconds per wall-clock second."""
+        return self.sim_seconds / self.wall_seconds if self.wall_seconds > 0 else math.inf
+
+    def penalties_by_code(self) -> dict[str, int]:
+        """Number of penalties per SPL penalty name."""
+        out: dict[str, int] = {}
+        for _, _, _, code in self.penalties:
+            name = Penalty(code).name
+            out[name] = out.get(name, 0) + 1
+        return dict(sorted(out.items()))
+
+    def deterministic_dict(self) -> dict[str, Any]:
+        """Everything except wall-clock figures (equal for equal seeds and configs)."""
+        return {
+            "seed": self.seed,
+            "players_per_team": self.players_per_team,
+            "field": self.field,
+            "score": list(self.score),
+            "goals": [list(g) for g in self.goals],
+            "kickoffs": [list(k) for k in self.kickoffs],
+            "penalties": [list(p) for p in self.penalties],
+            "returns": [list(r) for r in self.returns],
+            "half_time": self.half_time,
+            "side_switch": self.side_switch,
+            "set_plays": self.set_plays,
+            "placements": self.placements,
+            "messages_sent": list(self.messages_sent),
+            "sim_seconds": self.sim_seconds,
+            "physics_steps": self.physics_steps,
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """All figures, including wall-clock time and the real-time factor."""
+        d = self.deterministic_dict()
+        d["wall_seconds"] = self.wall_seconds
+        d["real_time_factor"] = self.real_time_factor
+        d["penalties_by_code"] = self.penalties_by_code()
+        return d
+
+    def format(self, team_names: tuple[str, str] = ("Home", "Away")) -> str:
+        """Human-readable report."""
+        lines = [
+            f"teamsim match  seed={self.seed}  {self.players_per_team} v {self.players_per_team}  field={self.field}",
+            f"final score    {team_names[0]} {self.score[0]} : {self.score[1]} {team_names[1]}",
+            "goals:",
+        ]
+        for t, team, half in self.goals:
+            lines.append(f"  {_clock(t)}  {team_names[team]:<5} (half {half})")
+        if not self.goals:
+            lines.append("  none")
+        lines.append(f"kickoffs       {len(self.kickoffs)}")
+        if self.half_time is not None:
+            lines.append(f"half time      at {_clock(self.half_time)}, sides switched: {self.side_switch}")
+        by_code = self.penalties_by_code()
+        lines.append(f"penalties      {len(self.penalties)}" + (f"  {by_code}" if by_code else ""))
+        for t, team, number, code in self.penalties:
+            lines.append(f"  {_clock(t)}  {team_names[team]:<5} #{number}  {Penalty(code).name}")
+        lines.append(f"returns        {len(self.returns)}")
+        lines.append(f"set plays      {self.set_plays}, manual placements {self.placements}")
+        lines.append(f"team messages  {self.messages_sent[0]} / {self.messages_sent[1]}")
+        lines.append(
+            f"simulated      {self.sim_seconds:.1f} s in {self.wall_seconds:.1f} s wall "
+            f"(real-time factor {self.real_time_factor:.1f}x, {self.physics_steps} physics steps)"
+        )
+        return "\n".join(lines)
+
+
+def _clock(t: float) -> str:
+    return f"{int(t // 60):3d}:{t % 60:05.2f}"
+
+
+class Match:
+    """One simulated match (see the module docstring)."""
+
+    def __init__(
+        self,
+        config: MatchConfig | None = None,
+        brains: BrainFactory = oracle_brains,
+        log: EventLog | None = None,
+    ):
+        self.config = config or MatchConfig()
+        c = self.config
+        self.field: Field = make_field(c.field)
+        n = c.players_per_team
+        seq = np.random.SeedSequence(c.seed)
+        children = seq.spawn(4 + 4 * n)
+        gens = [np.random.Generator(np.random.PCG64(s)) for s in children]
+        fall_rng, channel_rng, self._event_rng, _reserved = gens[:4]
+        robot_rngs = gens[4 : 4 + 2 * n]
+        odo_rngs = gens[4 + 2 * n : 4 + 4 * n]
+        self.log = log or EventLog()
+        self.world = World(self.field, n, c.physics, robot_rngs, fall_rng)
+        self.referee = Referee(self.world, self.field, c.referee, self.log)
+        self.channel = TeamChannel(c.channel, n, channel_rng)
+        self.odometry = [OdometryModel(c.odometry, g) for g in odo_rngs]
+        self.brains: list[Brain] = []
+        for robot in self.world.robots:
+            brain = brains(robot.team, robot.number)
+            brain.reset(
+                BrainContext(
+                    team_number=c.referee.team_numbers[robot.team],
+                    player_number=robot.number,
+                    players_per_team=n,
+                    field=self.field,
+                    cognition_hz=c.cognition_hz,
+                )
+            )
+            self.brains.append(brain)
+        self.time = 0.0
+        self.steps = 0
+        self.frames = 0
+        self._next_cognition = 0.0
+        self._events = sorted(c.events, key=lambda e: e.time)
+        self._event_index = 0
+        self.true_odometry: list[TrueOdometry] = [TrueOdometry(0.0, 0.0, 0.0)] * (2 * n)
+        """Per robot, the true body motion over its latest cognition frame (evaluation only)."""
+        self.last_frames: list[SensorFrame | None] = [None] * (2 * n)
+        self.wall_seconds = 0.0
+        self.referee.start()
+
+    # -- access ----------------------------------------------------------------------------
+    @property
+    def finished(self) -> bool:
+        """True after the second half has ended."""
+        return self.referee.finished
+
+    def game_state(self) -> GameControlData:
+        """The current GameController packet."""
+        return self.referee.game_state()
+
+    def snapshot(self) -> WorldSnapshot:
+        """The true state of the world now."""
+        return self.world.snapshot(self.time)
+
+    # -- scripted events -------------------------------------------------------------------
+    def apply_event(self, ev: ScriptedEvent) -> None:
+        """Carry out a scripted event now."""
+        if isinstance(ev, Kidnap):
+            self.kidnap(ev.team, ev.number, ev.pose, ev.sense_pickup)
+        elif isinstance(ev, PlaceBall):
+            self.world.place_ball(ev.x, ev.y, ev.vx, ev.vy)
+            self.log.add(self.time, "ball_placed", x=ev.x, y=ev.y)
+        elif isinstance(ev, ForcePenalty):
+            self.referee.penalize(ev.team, ev.number, ev.code, self.time, reason="script")
+        elif isinstance(ev, ForceFall):
+            robot = self.world.robot(ev.team, ev.number)
+            if robot.in_space:
+                robot.fall(self.time, ev.duration)
+                self.log.add(self.time, "forced_fall", team=ev.team, number=ev.number, duration=ev.duration)
+        else:
+            raise TypeError(f"unknown scripted event {ev!r}")
+
+    def kidnap(
+        self,
+        team: int,
+        number: int,
+        pose: tuple[float, float, float] | None = None,
+        sense_pickup: bool = False,
+    ) -> tuple[float, float, float]:
+        """Teleport a robot (world frame pose, random on the field if ``None``); returns the pose."""
+        robot = self.world.robot(team, number)
+        if pose is None:
+            f = self.field
+            g = self._event_rng
+            pose = (
+                float(g.uniform(-f.half_length + 0.3, f.half_length - 0.3)),
+                float(g.uniform(-f.half_width + 0.3, f.half_width - 0.3)),
+                float(g.uniform(-math.pi, math.pi)),
+            )
+        robot.teleport(*pose)
+        if sense_pickup:
+            robot.picked_up = True
+            self.referee.status[(team, number)].carried_until = self.time + self.config.referee.carry_seconds
+        self.log.add(self.time, "kidnap", team=team, number=number, x=pose[0], y=pose[1], theta=pose[2])
+        return pose
+
+    # -- running ---------------------------------------------------------------------------
+    def step(self) -> None:
+        """Advance by one physics step, running cognition when a frame is due."""
+        while self._event_index < len(self._events) and self._events[self._event_index].time <= self.time:
+            self.apply_event(self._events[self._event_index])
+            self._event_index += 1
+        if self.time >= self._next_cognition - 1e-9:
+            self._cognition()
+            self._next_cognition += 1.0 / self.config.cognition_hz
+        events = self.world.step(self.time)
+        self.steps += 1
+        self.time = self.steps * self.world.dt
+        self.referee.update(self.time, events)
+
+    def run(self, until: float | None = None, on_step: Callable[[Match], None] | None = None) -> MatchSummary:
+        """Run until the match is finished (or until simulated time ``until``)."""
+        start = wallclock.perf_counter()
+        while not self.finished and (until is None or self.time < until - 1e-9):
+            self.step()
+            if on_step is not None:
+                on_step(self)
+        self.wall_seconds += wallclock.perf_counter() - start
+        return self.summary()
+
+    def _cognition(self) -> None:
+        now = self.time
+        self.referee.set_message_budget(self.channel.budget_left)
+        game = self.referee.game_state()
+        inbox = [self.channel.receive(0, now), self.channel.receive(1, now)]
+        oracle_cache: dict[int, tuple[list[OraclePose], float, float, float, float]] = {}
+        for i, (robot, brain) in enumerate(zip(self.world.robots, self.brains, strict=True)):
+            planned, true = robot.take_motion()
+            self.true_odometry[i] = TrueOdometry(*true)
+            odo = self.odometry[i].report(planned)
+            frame = SensorFrame(
+                time=now,
+                frame_index=self.frames,
+                team_number=self.config.referee.team_numbers[robot.team],
+                player_number=robot.number,
+                odometry=odo,
+                head=robot.head,
+                game=game,
+                picked_up=robot.picked_up,
+                fallen=robot.is_fallen(),
+                messages=tuple(inbox[robot.team].get(robot.number, ())),
+            )
+            self.last_frames[i] = frame
+            oracle = None
+            if brain.uses_oracle:
+                if robot.team not in oracle_cache:
+                    oracle_cache[robot.team] = self._oracle_poses(robot.team)
+                oracle = self._oracle_for(robot.team, robot.number, oracle_cache[robot.team])
+            out = brain.think(frame, oracle)
+            if not robot.penalized:
+                m = out.motion
+                robot.command(m.walk, m.kick, m.head)
+            if out.message is not None:
+                self.channel.send(robot.team, robot.number, out.message, now)
+        self.frames += 1
+
+    def _oracle_poses(self, team: int) -> tuple[list[OraclePose], float, float, float, float]:
+        sign = self.referee.sign(team)
+        poses = []
+        for r in self.world.robots:
+            x, y, th = world_to_team(sign, *r.pose)
+            poses.append(OraclePose(r.number, x, y, th, active=not r.penalized, fallen=r.is_fallen()))
+        b = self.world.ball
+        return (
+            poses,
+            sign * b.position.x,
+            sign * b.position.y,
+            sign * b.velocity.x,
+            sign * b.velocity.y,
+        )
+
+    def _oracle_for(
+        self, team: int, number: int, cached: tuple[list[OraclePose], float, float, float, float]
+    ) -> OracleInput:
+        poses, bx, by, bvx, bvy = cached
+        n = self.config.players_per_team
+        own = poses[team * n : (team + 1) * n]
+        other = poses[(1 - team) * n : (2 - team) * n]
+        return OracleInput(
+            self_pose=own[number - 1],
+            teammates=tuple(p for p in own if p.number != number),
+            opponents=tuple(other),
+            ball_x=bx,
+            ball_y=by,
+            ball_vx=bvx,
+            ball_vy=bvy,
+        )
+
+    def summary(self) -> MatchSummary:
+        """What happened so far."""
+        c = self.referee.counters
+        half = self.log.of_kind("half_time")
+        return MatchSummary(
+            seed=self.config.seed,
+            players_per_team=self.config.players_per_team,
+            field=self.config.field,
+            score=(self.referee.score[0], self.referee.score[1]),
+            goals=list(c.goals),
+            kickoffs=list(c.kickoffs),
+            penalties=list(c.penalties),
+            returns=list(c.returns),
+            half_time=half[0].time if half else None,
+            side_switch=bool(self.log.of_kind("side_switch")),
+            set_plays=len(c.set_plays),
+            placements=c.placements,
+            messages_sent=(self.channel.stats[0].sent, self.channel.stats[1].sent),
+            sim_seconds=self.time,
+            wall_seconds=self.wall_seconds,
+            physics_steps=self.steps,
+        )
+
+    def is_playing(self) -> bool:
+        """Whether the game is in PLAYING."""
+        return self.referee.state == GameStateId.PLAYING

@@ -1,0 +1,97 @@
+"""Odometry: the walking engine's report of its own motion, with realistic errors.
+
+The robot's walking engine integrates the steps it *planned*; the body's *actual* motion
+differs (slippage, collisions, being pushed). Following the error sources that the CMU paper
+(Sec. III.B, Algorithm 2) and the Darmstadt paper (Sec. II, odometry) describe, the report
+is the planned motion with
+
+* translational noise proportional to the distance travelled on each axis,
+* rotational noise proportional to the rotation,
+* extra rotational noise for sideways steps (sidesteps are "especially non-straight"),
+* a slow systematic drift: a per-robot rotation bias per metre walked and a per-robot
+  scale error of the step length, drawn once per robot.
+
+Ground truth (:class:`TrueOdometry`) and the report (:class:`cognition.representations.
+OdometryReading`) are different types; only the report reaches a brain. All motions are in
+the robot frame of the previous cognition frame (dx forward m, dy left m, dtheta rad).
+
+=========================  =======  =========================================================
+parameter                  default  meaning
+=========================  =======  =========================================================
+trans_noise                0.08     sigma of dx (dy) per metre of |dx| (|dy|)
+rot_noise                  0.10     sigma of dtheta per radian of |dtheta|
+sideways_rot_noise         0.20     sigma of dtheta (rad) per metre of |dy|
+drift_sigma                0.03     sigma of the per-robot rotation bias (rad per metre walked)
+scale_sigma                0.03     sigma of the per-robot relative step-length error
+=========================  =======  =========================================================
+
+The filter-side motion model (CMU: sigma 0.3 / 0.4) is deliberately larger than these
+values, as both papers recommend modelling odometry worse than it is.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from cognition.representations import OdometryReading
+from teamsim.params import check_non_negative
+
+
+@dataclass(frozen=True)
+class TrueOdometry:
+    """The body's actual motion since the previous cognition frame (simulator truth)."""
+
+    dx: float
+    dy: float
+    dtheta: float
+
+
+@dataclass(frozen=True)
+class OdometryParams:
+    """Error model of the reported odometry (see module table)."""
+
+    trans_noise: float = 0.08
+    rot_noise: float = 0.10
+    sideways_rot_noise: float = 0.20
+    drift_sigma: float = 0.03
+    scale_sigma: float = 0.03
+
+    def __post_init__(self) -> None:
+        check_non_negative(
+            "OdometryParams",
+            trans_noise=self.trans_noise,
+            rot_noise=self.rot_noise,
+            sideways_rot_noise=self.sideways_rot_noise,
+            drift_sigma=self.drift_sigma,
+            scale_sigma=self.scale_sigma,
+        )
+
+
+class OdometryModel:
+    """Turns one robot's planned motion into its noisy odometry report.
+
+    The systematic part (rotation drift per metre, step-length scale) is drawn once at
+    construction from ``rng``; the random part is drawn on every :meth:`report`.
+    """
+
+    def __init__(self, params: OdometryParams, rng: np.random.Generator):
+        self.params = params
+        self.rng = rng
+        self.drift = float(rng.normal(0.0, params.drift_sigma))
+        """Rotation bias (rad per metre walked) of this robot."""
+        self.scale = 1.0 + float(rng.normal(0.0, params.scale_sigma))
+        """Step-length scale factor of this robot."""
+
+    def report(self, planned: tuple[float, float, float]) -> OdometryReading:
+        """The odometry a robot reports for the planned motion ``(dx, dy, dtheta)``."""
+        p = self.params
+        dx, dy, dth = planned
+        n = self.rng.normal(0.0, 1.0, 4)
+        dist = math.hypot(dx, dy)
+        rx = dx * self.scale + n[0] * p.trans_noise * abs(dx)
+        ry = dy * self.scale + n[1] * p.trans_noise * abs(dy)
+        rth = dth + n[2] * p.rot_noise * abs(dth) + n[3] * p.sideways_rot_noise * abs(dy) + self.drift * dist
+        return OdometryReading(dx=rx, dy=ry, dtheta=rth)

@@ -1,0 +1,319 @@
+"""A simulated NAO-like robot body: walking engine, kick, falls and head joints.
+
+The body is a pymunk circle driven the way pymunk's ``tank`` example drives a top-down
+vehicle: a kinematic *control body* carries the commanded velocity and a pivot joint plus a
+gear joint (``max_bias = 0``) pull the robot along with bounded force and torque. Those
+bounds act as floor friction, so a robot that is pushed hard enough slides.
+
+Parameters (:class:`RobotParams`, SI units, robot frame: +x forward, +y left):
+
+=======================  ========  ============================================================
+parameter                default   meaning
+=======================  ========  ============================================================
+radius                   0.14 m    collision radius of the body
+mass                     5.3 kg    NAO V6 mass
+max_forward              0.25 m/s  walking speed limits (NAO-like)
+max_backward             0.15 m/s
+max_sideways             0.15 m/s
+max_turn                 1.0 rad/s
+max_linear_accel         0.5 m/s2  acceleration limit of the walking engine
+max_angular_accel        3.0 rad/s2
+floor_force              40 N      pivot force limit (floor friction)
+floor_torque             8 N m     gear torque limit
+kick_reach               0.12 m    gap between body and ball within which a kick connects
+kick_half_angle          0.7 rad   ball bearing window for a kick
+kick_duration            0.8 s     the kick motion blocks walking for this long
+kick_max_speed           4.0 m/s   ball speed of a full-strength kick
+kick_direction_sigma     0.1 rad   noise of the kick direction
+kick_strength_sigma      0.1       relative noise of the kick speed
+kick_max_angle           1.05 rad  largest ball direction a kick can reach (robot frame)
+fall_speed_threshold     0.45 m/s  impact speed above which a collision may topple the robot
+fall_probability_slope   1.2 s/m   fall probability per m/s of impact speed above threshold
+getup_mean, getup_sigma  4.0, 0.7 s  time to get up (normal, clipped to >= getup_min)
+getup_min                2.5 s
+head_yaw_limit           2.0857 rad  NAO head yaw limit (both sides)
+head_pitch_min/max       -0.672 / 0.515 rad
+head_max_speed           8.0 rad/s
+=======================  ========  ============================================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from cognition.representations import HeadRequest, HeadState, KickRequest, WalkRequest
+from teamsim.params import check_positive
+
+COLLISION_ROBOT = 1
+COLLISION_BALL = 2
+COLLISION_POST = 3
+COLLISION_WALL = 4
+
+
+def wrap_angle(a: float) -> float:
+    """Wrap an angle to (-pi, pi]."""
+    a = math.fmod(a + math.pi, 2.0 * math.pi)
+    if a <= 0.0:
+        a += 2.0 * math.pi
+    return a - math.pi
+
+
+@dataclass(frozen=True)
+class RobotParams:
+    """Physical and motion parameters of one robot (see module table)."""
+
+    radius: float = 0.14
+    mass: float = 5.3
+    max_forward: float = 0.25
+    max_backward: float = 0.15
+    max_sideways: float = 0.15
+    max_turn: float = 1.0
+    max_linear_accel: float = 0.5
+    max_angular_accel: float = 3.0
+    floor_force: float = 40.0
+    floor_torque: float = 8.0
+    kick_reach: float = 0.12
+    kick_half_angle: float = 0.7
+    kick_duration: float = 0.8
+    kick_max_speed: float = 4.0
+    kick_direction_sigma: float = 0.1
+    kick_strength_sigma: float = 0.1
+    kick_max_angle: float = 1.05
+    fall_speed_threshold: float = 0.45
+    fall_probability_slope: float = 1.2
+    getup_mean: float = 4.0
+    getup_sigma: float = 0.7
+    getup_min: float = 2.5
+    head_yaw_limit: float = 2.0857
+    head_pitch_min: float = -0.672
+    head_pitch_max: float = 0.515
+    head_max_speed: float = 8.0
+
+    def __post_init__(self) -> None:
+        check_positive(
+            "RobotParams",
+            radius=self.radius,
+            mass=self.mass,
+            max_forward=self.max_forward,
+            max_backward=self.max_backward,
+            max_sideways=self.max_sideways,
+            max_turn=self.max_turn,
+            max_linear_accel=self.max_linear_accel,
+            max_angular_accel=self.max_angular_accel,
+            floor_force=self.floor_force,
+            floor_torque=self.floor_torque,
+            kick_duration=self.kick_duration,
+            kick_max_speed=self.kick_max_speed,
+            getup_mean=self.getup_mean,
+            getup_min=self.getup_min,
+            head_max_speed=self.head_max_speed,
+        )
+
+
+def compose(acc: tuple[float, float, float], d: tuple[float, float, float]) -> tuple[float, float, float]:
+    """Append motion ``d`` (in the frame reached by ``acc``) to the accumulated motion ``acc``."""
+    ax, ay, ath = acc
+    c, s = math.cos(ath), math.sin(ath)
+    return (ax + c * d[0] - s * d[1], ay + s * d[0] + c * d[1], ath + d[2])
+
+
+class Robot:
+    """One robot's body in the pymunk space, with its walking engine and head.
+
+    Poses are in the world frame (m, rad). The robot never decides anything; it executes the
+    last motion request until a new one arrives.
+    """
+
+    def __init__(self, team: int, number: int, params: RobotParams, rng: np.random.Generator):
+        self.team = team
+        self.number = number
+        self.params = params
+        self.rng = rng
+        moment = pymunk.moment_for_circle(params.mass, 0.0, params.radius)
+        self.body = pymunk.Body(params.mass, moment)
+        self.shape = pymunk.Circle(self.body, params.radius)
+        self.shape.collision_type = COLLISION_ROBOT
+        self.shape.friction = 0.2
+        self.shape.elasticity = 0.1
+        self.control = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        self.pivot = pymunk.PivotJoint(self.control, self.body, (0, 0), (0, 0))
+        self.pivot.max_bias = 0.0
+        self.pivot.max_force = params.floor_force
+        self.gear = pymunk.GearJoint(self.control, self.body, 0.0, 1.0)
+        self.gear.max_bias = 0.0
+        self.gear.max_force = params.floor_torque
+        self.in_space = False
+        self.walk_target = WalkRequest()
+        self.velocity = np.zeros(3)  # executed walk speed (vx, vy, w), robot frame
+        self.head = HeadState()
+        self.head_target = HeadRequest()
+        self.kick_request: KickRequest | None = None
+        self.busy_until = 0.0  # kicking
+        self.fallen_until = -1.0
+        self.fallen_since = -1.0
+        self.picked_up = False
+        self.penalized = False
+        self.planned = (0.0, 0.0, 0.0)  # walking engine's own motion since last frame
+        self.true_motion = (0.0, 0.0, 0.0)  # actual body motion since last frame
+        self._last_pose = (0.0, 0.0, 0.0)
+
+    # -- placement -------------------------------------------------------------------------
+    def add_to(self, space: pymunk.Space) -> None:
+        """Put the robot on the field (into the physics space)."""
+        if not self.in_space:
+            space.add(self.body, self.shape, self.control, self.pivot, self.gear)
+            self.in_space = True
+
+    def remove_from(self, space: pymunk.Space) -> None:
+        """Take the robot off the field (out of the physics space)."""
+        if self.in_space:
+            space.remove(self.body, self.shape, self.control, self.pivot, self.gear)
+            self.in_space = False
+
+    def teleport(self, x: float, y: float, theta: float) -> None:
+        """Move the robot without any motion being sensed (placement, kidnapping)."""
+        self.body.position = (x, y)
+        self.body.angle = theta
+        self.body.velocity = (0.0, 0.0)
+        self.body.angular_velocity = 0.0
+        self.control.position = (x, y)
+        self.control.angle = theta
+        self.control.velocity = (0.0, 0.0)
+        self.control.angular_velocity = 0.0
+        self.velocity[:] = 0.0
+        self._last_pose = (x, y, theta)
+        if self.body.space is not None:
+            self.body.space.reindex_shapes_for_body(self.body)
+
+    @property
+    def pose(self) -> tuple[float, float, float]:
+        """World pose (x m, y m, theta rad wrapped)."""
+        p = self.body.position
+        return (p.x, p.y, wrap_angle(self.body.angle))
+
+    # -- commands --------------------------------------------------------------------------
+    def command(self, walk: WalkRequest, kick: KickRequest | None, head: HeadRequest) -> None:
+        """Take a new motion request (called once per cognition frame)."""
+        self.walk_target = walk
+        self.head_target = head
+        if kick is not None and self.kick_request is None and self.can_walk_at_all():
+            self.kick_request = kick
+
+    def can_walk_at_all(self) -> bool:
+        return self.in_space and not self.picked_up and self.fallen_until < 0
+
+    def is_fallen(self) -> bool:
+        return self.fallen_until >= 0
+
+    def fall(self, now: float, duration: float | None = None) -> float:
+        """Topple over; returns the time when the robot will stand again (s)."""
+        p = self.params
+        if duration is None:
+            duration = max(p.getup_min, float(self.rng.normal(p.getup_mean, p.getup_sigma)))
+        if not self.is_fallen():
+            self.fallen_since = now
+        self.fallen_until = max(self.fallen_until, now + duration)
+        self.kick_request = None
+        self.velocity[:] = 0.0
+        return self.fallen_until
+
+    def _clipped_target(self) -> np.ndarray:
+        p = self.params
+        w = self.walk_target
+        fwd = min(max(w.forward, -p.max_backward), p.max_forward)
+        left = min(max(w.left, -p.max_sideways), p.max_sideways)
+        turn = min(max(w.turn, -p.max_turn), p.max_turn)
+        norm = math.sqrt(
+            (fwd / (p.max_forward if fwd >= 0 else p.max_backward)) ** 2
+            + (left / p.max_sideways) ** 2
+            + (turn / p.max_turn) ** 2
+        )
+        scale = 1.0 / norm if norm > 1.0 else 1.0
+        return np.array([fwd * scale, left * scale, turn * scale])
+
+    # -- per physics step ------------------------------------------------------------------
+    def pre_step(self, now: float, dt: float) -> None:
+        """Advance the walking engine and head by ``dt`` and set the control body."""
+        self._step_head(dt)
+        if not self.in_space:
+            return
+        if self.fallen_until >= 0 and now >= self.fallen_until:
+            self.fallen_until = -1.0
+            self.fallen_since = -1.0
+        if self.picked_up or self.is_fallen() or now < self.busy_until:
+            target = np.zeros(3)
+        else:
+            target = self._clipped_target()
+        p = self.params
+        limits = np.array([p.max_linear_accel, p.max_linear_accel, p.max_angular_accel]) * dt
+        if self.is_fallen() or self.picked_up:
+            self.velocity[:] = 0.0
+        else:
+            self.velocity += np.clip(target - self.velocity, -limits, limits)
+        vx, vy, w = self.velocity
+        th = self.body.angle
+        c, s = math.cos(th), math.sin(th)
+        self.control.velocity = (c * vx - s * vy, s * vx + c * vy)
+        self.control.angular_velocity = w
+        self.planned = compose(self.planned, (vx * dt, vy * dt, w * dt))
+        self._last_pose = (self.body.position.x, self.body.position.y, self.body.angle)
+
+    def post_step(self) -> None:
+        """Accumulate the true body motion of the step just simulated."""
+        if not self.in_space:
+            return
+        x0, y0, th0 = self._last_pose
+        p = self.body.position
+        c, s = math.cos(th0), math.sin(th0)
+        dxw, dyw = p.x - x0, p.y - y0
+        local = (c * dxw + s * dyw, -s * dxw + c * dyw, self.body.angle - th0)
+        self.true_motion = compose(self.true_motion, local)
+
+    def take_motion(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """Return and reset (planned, true) motion since the last call, robot frame."""
+        out = (self.planned, self.true_motion)
+        self.planned = (0.0, 0.0, 0.0)
+        self.true_motion = (0.0, 0.0, 0.0)
+        return out
+
+    def _step_head(self, dt: float) -> None:
+        p = self.params
+        t = self.head_target
+        speed = min(t.speed, p.head_max_speed)
+        ty = min(max(t.yaw, -p.head_yaw_limit), p.head_yaw_limit)
+        tp = min(max(t.pitch, p.head_pitch_min), p.head_pitch_max)
+        dy = min(max(ty - self.head.yaw, -speed * dt), speed * dt)
+        dp = min(max(tp - self.head.pitch, -speed * dt), speed * dt)
+        self.head = HeadState(
+            yaw=self.head.yaw + dy,
+            pitch=self.head.pitch + dp,
+            yaw_rate=dy / dt,
+            pitch_rate=dp / dt,
+            camera=t.camera,
+        )
+
+    def try_kick(self, now: float, ball: pymunk.Body, ball_radius: float) -> bool:
+        """Execute a pending kick; returns True if the ball was struck."""
+        kick = self.kick_request
+        if kick is None or now < self.busy_until or not self.can_walk_at_all():
+            return False
+        self.kick_request = None
+        p = self.params
+        self.busy_until = now + p.kick_duration
+        x, y, th = self.pose
+        dx, dy = ball.position.x - x, ball.position.y - y
+        dist = math.hypot(dx, dy)
+        bearing = wrap_angle(math.atan2(dy, dx) - th)
+        if dist - p.radius - ball_radius > p.kick_reach or abs(bearing) > p.kick_half_angle:
+            return False
+        direction = min(max(kick.direction, -p.kick_max_angle), p.kick_max_angle)
+        direction += float(self.rng.normal(0.0, p.kick_direction_sigma))
+        speed = kick.strength * p.kick_max_speed
+        speed *= max(0.0, 1.0 + float(self.rng.normal(0.0, p.kick_strength_sigma)))
+        ang = th + direction
+        ball.velocity = (speed * math.cos(ang), speed * math.sin(ang))
+        return True

@@ -1,0 +1,301 @@
+"""The physical world: a pymunk space with the field's border, goals, the ball and robots.
+
+The space has no gravity (top-down 2D). Static shapes: the outer border of the carpet
+(field plus border strip), the goal posts and the goal nets (sides and back). The ball is a
+light dynamic circle whose rolling friction is a constant deceleration applied in its
+velocity function. Robots are :class:`teamsim.robot.Robot` bodies.
+
+Collision handlers only *record* :class:`CollisionEvent` objects; :meth:`World.step` then
+turns hard impacts into falls, and the referee reads the events for pushing evidence.
+
+World frame: metres and radians, origin at the field centre, x toward the goal that team 0
+attacks in the first half.
+
+=====================  ==========  ===================================================
+parameter              default     meaning
+=====================  ==========  ===================================================
+physics_hz             100         physics steps per simulated second
+substeps               2           pymunk sub-steps per physics step
+ball_mass              0.045 kg    SPL ball
+ball_rolling_decel     0.6 m/s2    constant deceleration of a rolling ball (turf)
+ball_elasticity        0.5         restitution against posts, nets and border
+robot                  RobotParams body and motion parameters of every robot
+=====================  ==========  ===================================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+import pymunk
+
+from cognition.field import Field
+from teamsim.params import check_positive
+from teamsim.robot import (
+    COLLISION_BALL,
+    COLLISION_POST,
+    COLLISION_ROBOT,
+    COLLISION_WALL,
+    Robot,
+    RobotParams,
+)
+from teamsim.state import RobotTruth, WorldSnapshot
+
+
+@dataclass(frozen=True)
+class PhysicsParams:
+    """Parameters of the physical world (see module table)."""
+
+    physics_hz: float = 100.0
+    substeps: int = 2
+    ball_mass: float = 0.045
+    ball_rolling_decel: float = 0.6
+    ball_elasticity: float = 0.5
+    robot: RobotParams = field(default_factory=RobotParams)
+
+    def __post_init__(self) -> None:
+        check_positive(
+            "PhysicsParams",
+            physics_hz=self.physics_hz,
+            ball_mass=self.ball_mass,
+            ball_rolling_decel=self.ball_rolling_decel,
+        )
+        if not isinstance(self.substeps, int) or not 1 <= self.substeps <= 20:
+            raise ValueError(f"PhysicsParams.substeps must be an integer in 1..20, got {self.substeps!r}")
+        if not 0.0 <= self.ball_elasticity <= 1.0:
+            raise ValueError("PhysicsParams.ball_elasticity must be in [0, 1]")
+
+
+RobotId = tuple[int, int]
+"""(team index, player number)."""
+
+
+@dataclass(frozen=True)
+class CollisionEvent:
+    """One contact observed during a physics step.
+
+    ``kind`` says what touched what. ``first`` marks the first step of a contact, when
+    ``impact_speed`` (m/s, relative normal speed before the solver) is meaningful. ``push_a``
+    and ``push_b`` are the speeds (m/s) at which each robot's walking engine drove it toward
+    the other at that moment: evidence for the referee's pushing rule.
+    """
+
+    time: float
+    kind: Literal["robot_robot", "robot_post", "robot_wall", "robot_ball", "robot_kick"]
+    a: RobotId
+    b: RobotId | None
+    first: bool
+    impact_speed: float
+    push_a: float = 0.0
+    push_b: float = 0.0
+
+
+class World:
+    """The simulated field with ball and robots (see module docstring)."""
+
+    def __init__(
+        self,
+        field_map: Field,
+        players_per_team: int,
+        params: PhysicsParams,
+        robot_rngs: list[np.random.Generator],
+        fall_rng: np.random.Generator,
+    ):
+        self.field = field_map
+        self.params = params
+        self.dt = 1.0 / params.physics_hz
+        self.fall_rng = fall_rng
+        self.space = pymunk.Space()
+        self.space.gravity = (0.0, 0.0)
+        self._add_statics()
+        self.ball_radius = field_map.dims.ball_diameter / 2.0
+        self.ball = pymunk.Body(params.ball_mass, pymunk.moment_for_circle(params.ball_mass, 0, self.ball_radius))
+        self.ball.velocity_func = self._ball_velocity
+        self.ball_shape = pymunk.Circle(self.ball, self.ball_radius)
+        self.ball_shape.collision_type = COLLISION_BALL
+        self.ball_shape.elasticity = params.ball_elasticity
+        self.ball_shape.friction = 0.1
+        self.space.add(self.ball, self.ball_shape)
+        self.robots: list[Robot] = []
+        self._by_shape: dict[pymunk.Shape, Robot] = {}
+        for i in range(2 * players_per_team):
+            team, number = divmod(i, players_per_team)
+            robot = Robot(team, number + 1, params.robot, robot_rngs[i])
+            self.robots.append(robot)
+            self._by_shape[robot.shape] = robot
+        self.players_per_team = players_per_team
+        self._events: list[CollisionEvent] = []
+        self._now = 0.0
+        self._install_handlers()
+
+    # -- construction ----------------------------------------------------------------------
+    def _add_statics(self) -> None:
+        d = self.field.dims
+        hx = d.length / 2 + d.border_strip
+        hy = d.width / 2 + d.border_strip
+        body = self.space.static_body
+        corners = [(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)]
+        shapes: list[pymunk.Shape] = []
+        for i in range(4):
+            seg = pymunk.Segment(body, corners[i], corners[(i + 1) % 4], 0.02)
+            seg.collision_type = COLLISION_WALL
+            shapes.append(seg)
+        r_post = d.goal_post_diameter / 2
+        for post in self.field.goal_posts:
+            c = pymunk.Circle(body, r_post, (post.x, post.y))
+            c.collision_type = COLLISION_POST
+            shapes.append(c)
+        y_post = d.goal_inner_width / 2 + r_post
+        for sign in (-1.0, 1.0):
+            x0 = sign * d.length / 2
+            x1 = sign * (d.length / 2 + d.goal_depth)
+            for a, b in (
+                ((x0, y_post), (x1, y_post)),
+                ((x0, -y_post), (x1, -y_post)),
+                ((x1, -y_post), (x1, y_post)),
+            ):
+                net = pymunk.Segment(body, a, b, 0.01)
+                net.collision_type = COLLISION_WALL
+                shapes.append(net)
+        for s in shapes:
+            s.elasticity = self.params.ball_elasticity
+            s.friction = 0.3
+        self.space.add(*shapes)
+
+    def _ball_velocity(self, body: pymunk.Body, gravity: Any, damping: float, dt: float) -> None:
+        pymunk.Body.update_velocity(body, gravity, 1.0, dt)
+        vx, vy = body.velocity
+        speed = math.hypot(vx, vy)
+        if speed > 0.0:
+            new = max(0.0, speed - self.params.ball_rolling_decel * dt)
+            body.velocity = (vx * new / speed, vy * new / speed)
+        body.angular_velocity = 0.0
+
+    def _install_handlers(self) -> None:
+        self.space.on_collision(COLLISION_ROBOT, COLLISION_ROBOT, begin=self._rr_contact, pre_solve=self._rr_contact)
+        self.space.on_collision(COLLISION_ROBOT, COLLISION_POST, begin=self._static_contact)
+        self.space.on_collision(COLLISION_ROBOT, COLLISION_WALL, begin=self._static_contact)
+        self.space.on_collision(COLLISION_ROBOT, COLLISION_BALL, begin=self._ball_contact)
+
+    # -- collision recording ---------------------------------------------------------------
+    def _drive_toward(self, robot: Robot, ux: float, uy: float) -> float:
+        v = robot.control.velocity
+        return v.x * ux + v.y * uy
+
+    def _rr_contact(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        sa, sb = arbiter.shapes
+        ra, rb = self._by_shape[sa], self._by_shape[sb]
+        pa, pb = ra.body.position, rb.body.position
+        dx, dy = pb.x - pa.x, pb.y - pa.y
+        dist = math.hypot(dx, dy) or 1e-9
+        ux, uy = dx / dist, dy / dist
+        va, vb = ra.body.velocity, rb.body.velocity
+        impact = (va.x - vb.x) * ux + (va.y - vb.y) * uy
+        self._events.append(
+            CollisionEvent(
+                self._now,
+                "robot_robot",
+                (ra.team, ra.number),
+                (rb.team, rb.number),
+                arbiter.is_first_contact,
+                max(0.0, impact),
+                self._drive_toward(ra, ux, uy),
+                self._drive_toward(rb, -ux, -uy),
+            )
+        )
+
+    def _static_contact(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        shape = arbiter.shapes[0]
+        robot = self._by_shape[shape]
+        n = arbiter.normal
+        v = robot.body.velocity
+        impact = abs(v.x * n.x + v.y * n.y)
+        kind: Literal["robot_post", "robot_wall"] = (
+            "robot_post" if arbiter.shapes[1].collision_type == COLLISION_POST else "robot_wall"
+        )
+        self._events.append(CollisionEvent(self._now, kind, (robot.team, robot.number), None, True, impact))
+
+    def _ball_contact(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        robot = self._by_shape[arbiter.shapes[0]]
+        v = self.ball.velocity - robot.body.velocity
+        self._events.append(CollisionEvent(self._now, "robot_ball", (robot.team, robot.number), None, True, abs(v)))
+
+    # -- access ----------------------------------------------------------------------------
+    def robot(self, team: int, number: int) -> Robot:
+        """The robot of team index ``team`` with player number ``number`` (1-based)."""
+        if team not in (0, 1) or not 1 <= number <= self.players_per_team:
+            raise ValueError(f"no robot {number} in team {team} (players per team: {self.players_per_team})")
+        return self.robots[team * self.players_per_team + number - 1]
+
+    def place_ball(self, x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> None:
+        """Put the ball at (x, y) world frame with the given velocity (m/s)."""
+        if not all(math.isfinite(v) for v in (x, y, vx, vy)):
+            raise ValueError(f"ball placement must be finite, got {(x, y, vx, vy)}")
+        self.ball.position = (x, y)
+        self.ball.velocity = (vx, vy)
+        self.space.reindex_shapes_for_body(self.ball)
+
+    # -- stepping --------------------------------------------------------------------------
+    def step(self, now: float) -> list[CollisionEvent]:
+        """Advance the world by one physics step starting at time ``now`` (s)."""
+        self._now = now
+        self._events = []
+        dt = self.dt
+        for robot in self.robots:
+            robot.pre_step(now, dt)
+        sub = dt / self.params.substeps
+        for _ in range(self.params.substeps):
+            self.space.step(sub)
+        for robot in self.robots:
+            robot.post_step()
+            if robot.try_kick(now, self.ball, self.ball_radius):
+                speed = abs(self.ball.velocity)
+                self._events.append(CollisionEvent(now, "robot_kick", (robot.team, robot.number), None, True, speed))
+        self._apply_falls(now)
+        return self._events
+
+    def _apply_falls(self, now: float) -> None:
+        p = self.params.robot
+        for ev in self._events:
+            if not ev.first or ev.kind not in ("robot_robot", "robot_post", "robot_wall"):
+                continue
+            excess = ev.impact_speed - p.fall_speed_threshold
+            if excess <= 0:
+                continue
+            involved = [self.robot(*ev.a)] + ([self.robot(*ev.b)] if ev.b is not None else [])
+            for i, robot in enumerate(involved):
+                prob = min(0.9, excess * p.fall_probability_slope)
+                if ev.b is not None:
+                    # the robot that was driving into the other keeps its balance more often
+                    own, other = (ev.push_a, ev.push_b) if i == 0 else (ev.push_b, ev.push_a)
+                    if own > other:
+                        prob *= 0.5
+                if self.fall_rng.random() < prob and not robot.is_fallen():
+                    robot.fall(now)
+
+    def snapshot(self, now: float) -> WorldSnapshot:
+        """The true state of everything at time ``now``."""
+        robots = []
+        for r in self.robots:
+            x, y, th = r.pose
+            v = r.body.velocity
+            robots.append(
+                RobotTruth(
+                    team=r.team,
+                    number=r.number,
+                    x=x,
+                    y=y,
+                    theta=th,
+                    vx=v.x,
+                    vy=v.y,
+                    fallen=r.is_fallen(),
+                    penalized=r.penalized,
+                    picked_up=r.picked_up,
+                    head_yaw=r.head.yaw,
+                )
+            )
+        b = self.ball
+        return WorldSnapshot(now, tuple(robots), b.position.x, b.position.y, b.velocity.x, b.velocity.y)
