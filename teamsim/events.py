@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from collections.abc import Callable
 from typing import Any
 
 from cognition.gamestate import Penalty
@@ -42,6 +43,10 @@ class LogEvent:
         """A detail by name."""
         return dict(self.details).get(key, default)
 
+    def to_json(self) -> dict[str, Any]:
+        """A JSON-ready dict (tuples become lists)."""
+        return {"time": self.time, "kind": self.kind, **{k: _jsonable(v) for k, v in self.details}}
+
     def __str__(self) -> str:
         items = " ".join(f"{k}={v}" for k, v in self.details)
         return f"{self.time:8.2f}s {self.kind} {items}".rstrip()
@@ -49,19 +54,32 @@ class LogEvent:
 
 @dataclass
 class EventLog:
-    """Append-only list of :class:`LogEvent`."""
+    """Append-only list of :class:`LogEvent`.
+
+    ``sink``, if given, is called with every event as it is recorded (e.g. to append it to
+    a JSON-lines file), so a long run loses nothing already computed if it is interrupted.
+    """
 
     events: list[LogEvent] = field(default_factory=list)
+    sink: Callable[[LogEvent], None] | None = None
 
     def add(self, time: float, kind: str, **details: Any) -> LogEvent:
         """Record an event."""
         ev = LogEvent(time, kind, tuple(sorted(details.items())))
         self.events.append(ev)
+        if self.sink is not None:
+            self.sink(ev)
         return ev
 
     def of_kind(self, kind: str) -> list[LogEvent]:
         """All events of one kind, in order."""
         return [e for e in self.events if e.kind == kind]
+
+
+def _jsonable(v: Any) -> Any:
+    if isinstance(v, tuple):
+        return [_jsonable(x) for x in v]
+    return v
 
 
 def _check_time(owner: str, time: float) -> None:

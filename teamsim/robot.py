@@ -23,7 +23,7 @@ floor_torque             8 N m     gear torque limit
 kick_reach               0.12 m    gap between body and ball within which a kick connects
 kick_half_angle          0.7 rad   ball bearing window for a kick
 kick_duration            0.8 s     the kick motion blocks walking for this long
-kick_max_speed           4.0 m/s   ball speed of a full-strength kick
+kick_max_speed           3.0 m/s   ball speed of a full-strength kick
 kick_direction_sigma     0.1 rad   noise of the kick direction
 kick_strength_sigma      0.1       relative noise of the kick speed
 kick_max_angle           1.05 rad  largest ball direction a kick can reach (robot frame)
@@ -79,7 +79,7 @@ class RobotParams:
     kick_reach: float = 0.12
     kick_half_angle: float = 0.7
     kick_duration: float = 0.8
-    kick_max_speed: float = 4.0
+    kick_max_speed: float = 3.0
     kick_direction_sigma: float = 0.1
     kick_strength_sigma: float = 0.1
     kick_max_angle: float = 1.05

@@ -17,7 +17,7 @@ parameter              default     meaning
 physics_hz             100         physics steps per simulated second
 substeps               2           pymunk sub-steps per physics step
 ball_mass              0.045 kg    SPL ball
-ball_rolling_decel     0.6 m/s2    constant deceleration of a rolling ball (turf)
+ball_rolling_decel     1.0 m/s2    constant deceleration of a rolling ball (turf)
 ball_elasticity        0.5         restitution against posts, nets and border
 robot                  RobotParams body and motion parameters of every robot
 =====================  ==========  ===================================================
@@ -52,7 +52,7 @@ class PhysicsParams:
     physics_hz: float = 100.0
     substeps: int = 2
     ball_mass: float = 0.045
-    ball_rolling_decel: float = 0.6
+    ball_rolling_decel: float = 1.0
     ball_elasticity: float = 0.5
     robot: RobotParams = field(default_factory=RobotParams)
 

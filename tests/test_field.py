@@ -176,9 +176,7 @@ def test_kidsize_values() -> None:
     for pole in field.corner_poles:
         assert not field.is_inside(pole.x, pole.y)
         assert abs(pole.x) == pytest.approx(2.25) and abs(pole.y) > 1.5
-    assert {(np.sign(p.x), np.sign(p.y)) for p in field.corner_poles} == {
-        (sx, sy) for sx in (-1, 1) for sy in (-1, 1)
-    }
+    assert {(np.sign(p.x), np.sign(p.y)) for p in field.corner_poles} == {(sx, sy) for sx in (-1, 1) for sy in (-1, 1)}
     assert sorted(m.x for m in field.penalty_marks) == pytest.approx([-0.75, 0.75])
     corners = {(sx * 2.25, sy * 1.5) for sx in (-1, 1) for sy in (-1, 1)}
     assert corners <= points(field, "L")
@@ -270,11 +268,21 @@ def test_bad_dimensions(changes: dict[str, object], culprit: str) -> None:
         dataclasses.replace(FIELD_PRESETS["spl2025"], **changes)  # type: ignore[arg-type]
 
 
+def test_field_dimensions_direct_construction() -> None:
+    kwargs = {f.name: getattr(FIELD_PRESETS["spl2013"], f.name) for f in dataclasses.fields(FieldDimensions)}
+    assert FieldDimensions(**kwargs) == FIELD_PRESETS["spl2013"]
+    with pytest.raises(ValueError, match=r"length.*-1\.0"):
+        FieldDimensions(**{**kwargs, "length": -1.0})
+    with pytest.raises(ValueError, match="centre_mark"):
+        FieldDimensions(**{**kwargs, "centre_mark": 1})
+    with pytest.raises(ValueError, match=r"ColourScheme\.line_white"):
+        dataclasses.replace(COLOUR_SCHEMES["classic"], line_white=(255, 255, 256))
+
+
 def test_colour_schemes() -> None:
-    yellow_ish = make_colour_scheme("classic").own_goal
     classic = make_colour_scheme("classic")
     assert classic.own_goal == classic.opponent_goal
-    r, g, b = yellow_ish
+    r, g, b = classic.own_goal
     assert r > 200 and g > 150 and b < 80  # yellow
     r, g, b = classic.ball_primary
     assert r > 200 and 60 < g < 180 and b < 60  # orange

@@ -65,6 +65,10 @@ class OracleParams:
     """Distance kept from the ball during the opponent's kickoff or set play (m)."""
     min_message_interval: float = 1.0
     """Never send status messages more often than this (s)."""
+    outside_allowance: float = 0.1
+    """How far beyond the field lines (m) a target may lie; leaving the field is penalised."""
+    personal_space: float = 0.45
+    """Targets are kept this far (m, centre to centre) from other robots."""
 
 
 class OracleBrain:
@@ -149,10 +153,13 @@ class OracleBrain:
         near_goal = bx < goal_x + f.dims.goal_area_length + 0.6 and abs(by) < f.dims.goal_area_width / 2 + 0.4
         if near_goal:
             return self._strike(oracle)
+        # stand on the line from the goal centre to the ball, inside the goal area
         half_goal = f.dims.goal_inner_width / 2
-        y = max(-half_goal + 0.15, min(half_goal - 0.15, by * 0.4))
-        heading = math.atan2(by - y, bx - (goal_x + 0.3))
-        return MotionRequest(walk=self._walk_to(oracle, (goal_x + 0.3, y, heading)), head=self._head(oracle))
+        ang = math.atan2(by, bx - goal_x)
+        x = goal_x + 0.35 * math.cos(ang) + 0.1
+        y = max(-half_goal + 0.1, min(half_goal - 0.1, 0.6 * math.sin(ang)))
+        heading = math.atan2(by - y, bx - x)
+        return MotionRequest(walk=self._walk_to(oracle, (x, y, heading)), head=self._head(oracle))
 
     def _act_strike(self, frame: SensorFrame, oracle: OracleInput) -> MotionRequest:
         return self._strike(oracle)
@@ -160,11 +167,9 @@ class OracleBrain:
     def _strike(self, oracle: OracleInput) -> MotionRequest:
         assert self.context is not None
         p = self.params
-        f = self.context.field
         me = oracle.self_pose
         bx, by = oracle.ball_x, oracle.ball_y
-        gx, gy = f.half_length + 0.2, 0.0
-        aim = math.atan2(gy - by, gx - bx)
+        aim = self._feasible_aim(bx, by)
         dist = math.hypot(bx - me.x, by - me.y)
         bearing = _wrap(math.atan2(by - me.y, bx - me.x) - me.theta)
         aim_rel = _wrap(aim - me.theta)
@@ -182,6 +187,21 @@ class OracleBrain:
             # far: go around the ball if it lies between the robot and its line-up point
             walk = self._walk_to(oracle, behind, avoid=True)
         return MotionRequest(walk=walk, head=self._head(oracle))
+
+    def _feasible_aim(self, bx: float, by: float) -> float:
+        """Aim at the goal if the line-up spot behind the ball is reachable, else up the field."""
+        assert self.context is not None
+        f = self.context.field
+        d = self.params.approach_distance
+        for tx, ty in ((f.half_length + 0.2, 0.0), (f.half_length / 2, 0.0), (0.0, 0.0), (-f.half_length, 0.0)):
+            aim = math.atan2(ty - by, tx - bx)
+            sx, sy = bx - d * math.cos(aim), by - d * math.sin(aim)
+            if (
+                abs(sx) <= f.half_length + self.params.outside_allowance
+                and abs(sy) <= f.half_width + self.params.outside_allowance
+            ):
+                return aim
+        return math.atan2(-by, -bx)
 
     def _act_support(self, frame: SensorFrame, oracle: OracleInput) -> MotionRequest:
         assert self.context is not None
@@ -223,9 +243,13 @@ class OracleBrain:
             tx, ty = self._avoid(oracle, me, tx, ty)
         assert self.context is not None
         f = self.context.field
-        # stay inside the field lines (leaving the field is penalised)
-        tx = max(-f.half_length + 0.15, min(f.half_length - 0.15, tx))
-        ty = max(-f.half_width + 0.15, min(f.half_width - 0.15, ty))
+        if avoid:
+            tx, ty = self._free_spot(oracle, me, tx, ty)
+        # stay (almost) inside the field lines: leaving the field is penalised
+        lim_x = f.half_length + self.params.outside_allowance
+        lim_y = f.half_width + self.params.outside_allowance
+        tx = max(-lim_x, min(lim_x, tx))
+        ty = max(-lim_y, min(lim_y, ty))
         dx, dy = tx - me.x, ty - me.y
         dist = math.hypot(dx, dy)
         c, s = math.cos(me.theta), math.sin(me.theta)
@@ -242,6 +266,21 @@ class OracleBrain:
             left=gain * 1.2 * fy * slow,
             turn=2.0 * heading_err,
         )
+
+    def _free_spot(self, oracle: OracleInput, me: OraclePose, tx: float, ty: float) -> tuple[float, float]:
+        """Move a target out of other robots' personal space so nobody is pushed."""
+        space = self.params.personal_space
+        for p in (*oracle.teammates, *oracle.opponents):
+            if not p.active:
+                continue
+            dx, dy = tx - p.x, ty - p.y
+            d = math.hypot(dx, dy)
+            if d >= space:
+                continue
+            if d < 1e-6:
+                dx, dy, d = me.x - p.x, me.y - p.y, max(1e-6, math.hypot(me.x - p.x, me.y - p.y))
+            tx, ty = p.x + dx / d * space, p.y + dy / d * space
+        return tx, ty
 
     def _avoid(self, oracle: OracleInput, me: OraclePose, tx: float, ty: float) -> tuple[float, float]:
         """Bend the target away from nearby robots (and the ball when walking around it)."""

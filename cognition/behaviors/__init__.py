@@ -1,0 +1,1 @@
+"""Behaviors: explicit state machines that turn beliefs into motion requests."""

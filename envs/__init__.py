@@ -1,0 +1,1 @@
+"""envs: built on top of teamsim and cognition (later issues fill this package)."""

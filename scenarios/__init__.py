@@ -1,0 +1,1 @@
+"""scenarios: built on top of teamsim and cognition (later issues fill this package)."""

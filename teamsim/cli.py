@@ -1,0 +1,170 @@
+"""The ``teamsim`` command line.
+
+=============  ==================================================================
+subcommand     what it does
+=============  ==================================================================
+match          run a full headless match and print its summary; optionally write
+               a top-down video (MP4 or GIF) and the results to a directory
+=============  ==================================================================
+
+``teamsim match --out DIR`` writes ``config.json`` first, appends every event to
+``events.jsonl`` as it happens (an interrupted run keeps what it computed), and writes
+``summary.json`` at the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any, TextIO
+
+from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
+from teamsim.events import EventLog, LogEvent
+from teamsim.match import MAX_PLAYERS_PER_TEAM, Match, MatchConfig
+
+
+def _match_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "match",
+        help="run a full headless match and print its summary",
+        description="Run a full match (two halves) with scripted oracle players and print a summary.",
+    )
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument(
+        "--players-per-team",
+        type=int,
+        default=None,
+        help=f"robots per team, 1..{MAX_PLAYERS_PER_TEAM} (default 5)",
+    )
+    p.add_argument("--half-seconds", type=float, default=None, help="length of a half in seconds (default 600)")
+    p.add_argument("--field", choices=sorted(FIELD_PRESETS), default=None, help="field preset (default spl2025)")
+    p.add_argument("--colours", choices=sorted(COLOUR_SCHEMES), default=None, help="colour scheme (default classic)")
+    p.add_argument(
+        "--rules",
+        choices=["spl2025", "spl2010"],
+        default=None,
+        help="penalty return rule set (default spl2025)",
+    )
+    p.add_argument("--config", type=Path, default=None, help="JSON file with MatchConfig overrides")
+    p.add_argument("--video", type=Path, default=None, help="write a top-down video (.mp4 or .gif)")
+    p.add_argument("--video-fps", type=float, default=10.0, help="frames per simulated second in the video")
+    p.add_argument("--out", type=Path, default=None, help="directory for config.json, events.jsonl, summary.json")
+    p.add_argument("--events", action="store_true", help="also print the event log")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``teamsim`` command."""
+    parser = argparse.ArgumentParser(
+        prog="teamsim",
+        description="Simulator for teams of SPL-style soccer robots with a real cognition stack.",
+    )
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    _match_parser(sub)
+    return parser
+
+
+def config_from_args(args: argparse.Namespace) -> MatchConfig:
+    """Merge a JSON config file and the command-line options into a :class:`MatchConfig`."""
+    data: dict[str, Any] = {}
+    if args.config is not None:
+        if not args.config.is_file():
+            raise ValueError(f"config file not found: {args.config}")
+        try:
+            data = json.loads(args.config.read_text())
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"config file {args.config} is not valid JSON: {exc}") from exc
+        if not isinstance(data, dict):
+            raise ValueError(f"config file {args.config} must hold a JSON object")
+    data["seed"] = args.seed
+    if args.players_per_team is not None:
+        data["players_per_team"] = args.players_per_team
+    if args.field is not None:
+        data["field"] = args.field
+    if args.colours is not None:
+        data["colours"] = args.colours
+    referee = dict(data.get("referee", {}))
+    if args.half_seconds is not None:
+        referee["half_seconds"] = args.half_seconds
+    if args.rules is not None:
+        referee["rules"] = args.rules
+    if referee:
+        data["referee"] = referee
+    return MatchConfig.from_mapping(data)
+
+
+def _jsonable(obj: Any) -> Any:
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: _jsonable(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+    if isinstance(obj, list | tuple):
+        return [_jsonable(v) for v in obj]
+    return obj
+
+
+def run_match(args: argparse.Namespace, out: TextIO) -> int:
+    """Run ``teamsim match`` with parsed arguments."""
+    config = config_from_args(args)
+    if args.video_fps <= 0:
+        raise ValueError(f"--video-fps must be > 0, got {args.video_fps}")
+    events_file: TextIO | None = None
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "config.json").write_text(json.dumps(_jsonable(config), indent=2))
+        events_file = (args.out / "events.jsonl").open("w")
+
+    def sink(ev: LogEvent) -> None:
+        if events_file is not None:
+            events_file.write(json.dumps(ev.to_json()) + "\n")
+            events_file.flush()
+
+    match = Match(config, log=EventLog(sink=sink))
+    writer = None
+    try:
+        on_step = None
+        if args.video is not None:
+            from cognition.field import make_colour_scheme
+            from teamsim.render import TopDownRenderer, VideoWriter
+
+            renderer = TopDownRenderer(match.field, make_colour_scheme(config.colours))
+            writer = VideoWriter(args.video, fps=args.video_fps)
+            every = max(1, round(config.physics.physics_hz / args.video_fps))
+
+            def on_step(m: Match) -> None:
+                if m.steps % every == 0:
+                    writer.write(renderer.render(m.snapshot(), m.game_state()))
+
+        summary = match.run(on_step=on_step)
+    finally:
+        if writer is not None:
+            writer.close()
+        if events_file is not None:
+            events_file.close()
+    print(summary.format(), file=out)
+    if args.events:
+        print("events:", file=out)
+        for ev in match.log.events:
+            print(f"  {ev}", file=out)
+    if args.out is not None:
+        (args.out / "summary.json").write_text(json.dumps(summary.to_dict(), indent=2))
+        print(f"results written to {args.out}", file=out)
+    if args.video is not None:
+        print(f"video written to {args.video}", file=out)
+    return 0
+
+
+def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
+    """Entry point of the ``teamsim`` console script; returns the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    stream = out if out is not None else sys.stdout
+    try:
+        if args.command == "match":
+            return run_match(args, stream)
+    except (ValueError, TypeError, OSError) as exc:
+        print(f"teamsim {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    parser.error(f"unknown command {args.command!r}")
+    return 2

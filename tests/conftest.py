@@ -1,0 +1,44 @@
+"""Shared test helpers: simple brains and short-match configurations."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from cognition.brain import BrainContext  # noqa: E402
+from cognition.oracle import OracleInput  # noqa: E402
+from cognition.representations import BrainOutput, MotionRequest, SensorFrame, WalkRequest  # noqa: E402
+from teamsim.match import MatchConfig  # noqa: E402
+from teamsim.referee import RefereeParams  # noqa: E402
+
+
+class ScriptBrain:
+    """A brain whose walk command is a function of (frame, oracle); records its frames."""
+
+    uses_oracle = True
+
+    def __init__(self, policy: Callable[[SensorFrame, OracleInput], WalkRequest] | None = None):
+        self.policy = policy
+        self.frames: list[SensorFrame] = []
+        self.oracles: list[OracleInput] = []
+        self.context: BrainContext | None = None
+
+    def reset(self, context: BrainContext) -> None:
+        self.context = context
+
+    def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
+        assert oracle is not None
+        self.frames.append(frame)
+        self.oracles.append(oracle)
+        walk = self.policy(frame, oracle) if self.policy is not None else WalkRequest()
+        return BrainOutput(motion=MotionRequest(walk=walk))
+
+
+def short_config(**referee: object) -> MatchConfig:
+    """A 5 v 5 config with short phases, for referee tests."""
+    params = replace(RefereeParams(half_seconds=60.0, ready_seconds=10.0, halftime_seconds=2.0), **referee)
+    return MatchConfig(referee=params)
