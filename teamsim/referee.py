@@ -61,6 +61,11 @@ from teamsim.robot import Robot
 from teamsim.world import CollisionEvent, RobotId, World
 
 
+def _ceil(seconds: float) -> int:
+    """Whole seconds shown on a clock, robust to float accumulation (59.9999999 -> 60)."""
+    return math.ceil(seconds - 1e-6)
+
+
 @dataclass(frozen=True)
 class RefereeParams:
     """Timing and rule parameters of the referee (seconds, metres)."""
@@ -189,6 +194,7 @@ class Referee:
         self._packet = 0
         self._cached: GameControlData | None = None
         self._cache_key: tuple[object, ...] | None = None
+        self._now_for_packet = 0.0
 
     # -- frames ----------------------------------------------------------------------------
     def sign(self, team: int) -> float:
@@ -233,10 +239,10 @@ class Referee:
             self.set_play,
             self.first_half,
             self.kicking_team,
-            math.ceil(self.secs_remaining),
+            _ceil(self.secs_remaining),
             tuple(self.score),
             tuple(self._budget_left),
-            tuple((s.penalty, math.ceil(s.penalized_until)) for s in self.status.values()),
+            tuple((s.penalty, _ceil(s.penalized_until - self._now_for_packet)) for s in self.status.values()),
             self._secondary(),
         )
         if self._cached is not None and key == self._cache_key:
@@ -250,7 +256,7 @@ class Referee:
                 if st is None or st.penalty == Penalty.NONE:
                     players.append(RobotInfo())
                 else:
-                    left = max(0, math.ceil(st.penalized_until - self._now_for_packet))
+                    left = max(0, _ceil(st.penalized_until - self._now_for_packet))
                     players.append(RobotInfo(int(st.penalty), left))
             teams.append(
                 TeamInfo(
@@ -270,25 +276,23 @@ class Referee:
             set_play=int(self.set_play),
             first_half=int(self.first_half),
             kicking_team=self.params.team_numbers[self.kicking_team],
-            secs_remaining=math.ceil(self.secs_remaining),
+            secs_remaining=_ceil(self.secs_remaining),
             secondary_time=self._secondary(),
             teams=(teams[0], teams[1]),
         )
         self._cache_key = key
         return self._cached
 
-    _now_for_packet = 0.0
-
     def _secondary(self) -> int:
         now = self._now_for_packet
         if self.state == GameStateId.READY:
-            return max(0, math.ceil(self.state_since + self.params.ready_seconds - now))
+            return max(0, _ceil(self.state_since + self.params.ready_seconds - now))
         if self.state == GameStateId.SET:
-            return max(0, math.ceil(self.state_since + self.params.set_seconds - now))
+            return max(0, _ceil(self.state_since + self.params.set_seconds - now))
         if self.state == GameStateId.PLAYING and self.set_play != SetPlay.NONE:
-            return max(0, math.ceil(self.set_play_until - now))
+            return max(0, _ceil(self.set_play_until - now))
         if self.state == GameStateId.PLAYING and now < self._kickoff_until:
-            return max(0, math.ceil(self._kickoff_until - now))
+            return max(0, _ceil(self._kickoff_until - now))
         return 0
 
     # -- penalties -------------------------------------------------------------------------
