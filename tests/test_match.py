@@ -120,11 +120,11 @@ def test_unknown_and_negative_config_keys() -> None:
 
 
 def test_nan_commands_are_rejected() -> None:
-    with pytest.raises(ValueError, match="WalkRequest.forward must be a finite number"):
+    with pytest.raises(ValueError, match=r"WalkRequest\.forward must be a finite number"):
         WalkRequest(forward=math.nan)
     with pytest.raises(ValueError, match="turn"):
         WalkRequest(turn=math.inf)
-    with pytest.raises(ValueError, match="HeadRequest.yaw"):
+    with pytest.raises(ValueError, match=r"HeadRequest\.yaw"):
         HeadRequest(yaw=math.nan)
     with pytest.raises(ValueError, match="strength"):
         KickRequest(strength=2.0)

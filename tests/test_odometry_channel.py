@@ -69,7 +69,7 @@ def test_walking_robot_odometry_against_truth() -> None:
         match.time = match.steps * match.world.dt
     planned, true = robot.take_motion()
     true_odo = TrueOdometry(*true)
-    x, y, th = robot.pose
+    x, y, _ = robot.pose
     # the true motion is what the body did
     assert true_odo.dx == pytest.approx(x + 2.0, abs=1e-6)
     assert true_odo.dy == pytest.approx(y, abs=1e-6)

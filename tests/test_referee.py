@@ -7,7 +7,7 @@ import math
 from dataclasses import replace
 
 import pytest
-from conftest import ScriptBrain, short_config
+from helpers import ScriptBrain, short_config
 
 from cognition.gamestate import GameStateId, Penalty, SetPlay
 from cognition.oracle import OracleInput

@@ -2,18 +2,14 @@
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from dataclasses import replace
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from cognition.brain import BrainContext  # noqa: E402
-from cognition.oracle import OracleInput  # noqa: E402
-from cognition.representations import BrainOutput, MotionRequest, SensorFrame, WalkRequest  # noqa: E402
-from teamsim.match import MatchConfig  # noqa: E402
-from teamsim.referee import RefereeParams  # noqa: E402
+from cognition.brain import BrainContext
+from cognition.oracle import OracleInput
+from cognition.representations import BrainOutput, MotionRequest, SensorFrame, WalkRequest
+from teamsim.match import MatchConfig
+from teamsim.referee import RefereeParams
 
 
 class ScriptBrain:

@@ -1,0 +1,174 @@
+"""The physical world: walking limits, kicks, ball rolling, collisions, falls and the head."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cognition.field import make_field
+from cognition.representations import HeadRequest, KickRequest, WalkRequest
+from teamsim.robot import RobotParams
+from teamsim.world import PhysicsParams, World
+
+
+def make_world(players: int = 1, seed: int = 0, params: PhysicsParams | None = None) -> World:
+    gens = [np.random.default_rng([seed, i]) for i in range(2 * players + 1)]
+    world = World(make_field("spl2025"), players, params or PhysicsParams(), gens[1:], gens[0])
+    for r in world.robots:
+        r.add_to(world.space)
+    for i, r in enumerate(world.robots):
+        r.teleport(-3.0 + 2.0 * i, -2.0, 0.0)
+    world.place_ball(0.0, 2.5)
+    return world
+
+
+def run(world: World, seconds: float, t0: float = 0.0) -> float:
+    steps = round(seconds / world.dt)
+    for k in range(steps):
+        world.step(t0 + k * world.dt)
+    return t0 + steps * world.dt
+
+
+def test_walk_speed_and_acceleration_limits() -> None:
+    world = make_world()
+    robot = world.robot(0, 1)
+    p = robot.params
+    robot.command(WalkRequest(forward=10.0), None, HeadRequest())
+    run(world, 0.2)
+    assert robot.velocity[0] == pytest.approx(p.max_linear_accel * 0.2, abs=0.011)
+    run(world, 2.0, 0.2)
+    speed = math.hypot(*robot.body.velocity)
+    assert speed == pytest.approx(p.max_forward, rel=0.02)
+    robot.command(WalkRequest(forward=0.25, left=0.15, turn=1.0), None, HeadRequest())
+    run(world, 2.0, 2.2)
+    vx, vy, w = robot.velocity
+    norm = math.sqrt((vx / p.max_forward) ** 2 + (vy / p.max_sideways) ** 2 + (w / p.max_turn) ** 2)
+    assert norm == pytest.approx(1.0, abs=1e-6)  # combined command scaled onto the limit
+
+
+def test_ball_rolls_to_a_stop_with_constant_deceleration() -> None:
+    world = make_world()
+    world.place_ball(0.0, 0.0, 2.0, 0.0)
+    run(world, 3.0)
+    decel = world.params.ball_rolling_decel
+    expected = 2.0**2 / (2 * decel)
+    assert world.ball.position.x == pytest.approx(expected, rel=0.03)
+    assert abs(world.ball.velocity) < 1e-9
+
+
+def test_kick_sends_ball_in_the_requested_direction_with_noise() -> None:
+    directions, speeds = [], []
+    for seed in range(40):
+        world = make_world(seed=seed)
+        robot = world.robot(0, 1)
+        robot.teleport(0.0, 0.0, 0.0)
+        world.place_ball(0.22, 0.0)
+        robot.command(WalkRequest(), KickRequest(direction=0.3, strength=0.8), HeadRequest())
+        events = world.step(0.0)
+        assert [e.kind for e in events if e.kind == "robot_kick"] == ["robot_kick"]
+        vx, vy = world.ball.velocity
+        directions.append(math.atan2(vy, vx))
+        speeds.append(math.hypot(vx, vy))
+        # the kick blocks walking for its duration
+        robot.command(WalkRequest(forward=0.25), None, HeadRequest())
+        run(world, 0.5, 0.01)
+        assert abs(robot.velocity[0]) < 1e-9
+    p = RobotParams()
+    assert np.mean(directions) == pytest.approx(0.3, abs=0.05)
+    assert np.std(directions) == pytest.approx(p.kick_direction_sigma, rel=0.35)
+    assert np.mean(speeds) == pytest.approx(0.8 * p.kick_max_speed, rel=0.06)
+    assert np.std(speeds) > 0.0
+
+
+def test_kick_out_of_reach_misses() -> None:
+    world = make_world()
+    robot = world.robot(0, 1)
+    robot.teleport(0.0, 0.0, 0.0)
+    world.place_ball(0.6, 0.0)
+    robot.command(WalkRequest(), KickRequest(), HeadRequest())
+    events = world.step(0.0)
+    assert not [e for e in events if e.kind == "robot_kick"]
+    assert abs(world.ball.velocity) == 0.0
+
+
+def test_robots_collide_and_hard_impacts_topple_them() -> None:
+    falls = 0
+    for seed in range(30):
+        world = make_world(players=1, seed=seed)
+        a, b = world.robot(0, 1), world.robot(1, 1)
+        a.teleport(-0.15, 0.0, 0.0)
+        b.teleport(0.15, 0.0, math.pi)
+        a.body.velocity = (1.0, 0.0)  # a hard charge (1 m/s each), as after a stumble
+        b.body.velocity = (-1.0, 0.0)
+        saw_contact = False
+        for k in range(100):
+            events = world.step(k * world.dt)
+            saw_contact |= any(e.kind == "robot_robot" for e in events)
+        assert saw_contact
+        # bodies never overlap by more than a little
+        gap = math.dist(a.body.position, b.body.position) - 2 * a.params.radius
+        assert gap > -0.02
+        falls += a.is_fallen() + b.is_fallen()
+    assert falls > 10  # 2 m/s closing speed topples robots often
+
+
+def test_gentle_contact_does_not_topple_and_getting_up_takes_seconds() -> None:
+    world = make_world(players=1)
+    a, b = world.robot(0, 1), world.robot(1, 1)
+    a.teleport(-0.35, 0.0, 0.0)
+    b.teleport(0.0, 0.0, math.pi)
+    a.command(WalkRequest(forward=0.1), None, HeadRequest())
+    run(world, 3.0)
+    assert not a.is_fallen() and not b.is_fallen()
+    until = b.fall(3.0)
+    assert 2.5 <= until - 3.0 <= 8.0
+    b.command(WalkRequest(forward=0.2), None, HeadRequest())
+    run(world, 1.0, 3.0)
+    assert abs(b.body.velocity) < 1e-6 or b.velocity[0] == 0.0
+    run(world, until - 4.0 + 1.0, 4.0)
+    assert not b.is_fallen() and b.velocity[0] > 0.0
+
+
+# pymunk clears forces after each sub-step and a physics step has 2 of them, so a force
+# applied once per step acts for half the time: factor 4 is an average of 2x floor friction.
+@pytest.mark.parametrize(("factor", "slides"), [(1.4, False), (4.0, True)])
+def test_pushed_robot_slides_only_beyond_floor_friction(factor: float, slides: bool) -> None:
+    world = make_world(players=1)
+    robot = world.robot(1, 1)
+    robot.teleport(0.0, 0.0, 0.0)
+    for k in range(100):
+        robot.body.apply_force_at_local_point((factor * robot.params.floor_force, 0.0))
+        world.step(k * world.dt)
+    moved = robot.body.position.x
+    assert (moved > 0.1) == slides
+    assert moved < 0.01 or slides
+
+
+def test_head_respects_joint_and_rate_limits() -> None:
+    world = make_world()
+    robot = world.robot(0, 1)
+    p = robot.params
+    robot.command(WalkRequest(), None, HeadRequest(yaw=3.0, pitch=-2.0, speed=2.0))
+    world.step(0.0)
+    assert robot.head.yaw == pytest.approx(2.0 * world.dt)
+    assert robot.head.yaw_rate == pytest.approx(2.0)
+    run(world, 3.0, world.dt)
+    assert robot.head.yaw == pytest.approx(p.head_yaw_limit)
+    assert robot.head.pitch == pytest.approx(p.head_pitch_min)
+    assert robot.head.yaw_rate == 0.0
+
+
+def test_bad_physics_params() -> None:
+    with pytest.raises(ValueError, match="substeps"):
+        PhysicsParams(substeps=0)
+    with pytest.raises(ValueError, match="max_forward"):
+        RobotParams(max_forward=-0.1)
+    with pytest.raises(ValueError, match="physics_hz"):
+        PhysicsParams(physics_hz=math.nan)
+    world = make_world()
+    with pytest.raises(ValueError, match="finite"):
+        world.place_ball(math.nan, 0.0)
+    with pytest.raises(ValueError, match="no robot 3"):
+        world.robot(0, 3)
