@@ -148,7 +148,7 @@ class Robot:
         self.gear.max_force = params.floor_torque
         self.in_space = False
         self.walk_target = WalkRequest()
-        self.velocity = np.zeros(3)  # executed walk speed (vx, vy, w), robot frame
+        self.velocity = [0.0, 0.0, 0.0]  # executed walk speed (vx m/s, vy m/s, w rad/s), robot frame
         self.head = HeadState()
         self.head_target = HeadRequest()
         self.kick_request: KickRequest | None = None
@@ -184,7 +184,7 @@ class Robot:
         self.control.angle = theta
         self.control.velocity = (0.0, 0.0)
         self.control.angular_velocity = 0.0
-        self.velocity[:] = 0.0
+        self.velocity = [0.0, 0.0, 0.0]
         self._last_pose = (x, y, theta)
         if self.body.space is not None:
             self.body.space.reindex_shapes_for_body(self.body)
@@ -218,10 +218,10 @@ class Robot:
             self.fallen_since = now
         self.fallen_until = max(self.fallen_until, now + duration)
         self.kick_request = None
-        self.velocity[:] = 0.0
+        self.velocity = [0.0, 0.0, 0.0]
         return self.fallen_until
 
-    def _clipped_target(self) -> np.ndarray:
+    def _clipped_target(self) -> tuple[float, float, float]:
         p = self.params
         w = self.walk_target
         fwd = min(max(w.forward, -p.max_backward), p.max_forward)
@@ -233,7 +233,7 @@ class Robot:
             + (turn / p.max_turn) ** 2
         )
         scale = 1.0 / norm if norm > 1.0 else 1.0
-        return np.array([fwd * scale, left * scale, turn * scale])
+        return (fwd * scale, left * scale, turn * scale)
 
     # -- per physics step ------------------------------------------------------------------
     def pre_step(self, now: float, dt: float) -> None:
@@ -244,23 +244,26 @@ class Robot:
         if self.fallen_until >= 0 and now >= self.fallen_until:
             self.fallen_until = -1.0
             self.fallen_since = -1.0
-        if self.picked_up or self.is_fallen() or now < self.busy_until:
-            target = np.zeros(3)
-        else:
-            target = self._clipped_target()
         p = self.params
-        limits = np.array([p.max_linear_accel, p.max_linear_accel, p.max_angular_accel]) * dt
-        if self.is_fallen() or self.picked_up:
-            self.velocity[:] = 0.0
+        if self.picked_up or self.is_fallen():
+            self.velocity = [0.0, 0.0, 0.0]
         else:
-            self.velocity += np.clip(target - self.velocity, -limits, limits)
+            target = (0.0, 0.0, 0.0) if now < self.busy_until else self._clipped_target()
+            lin, ang = p.max_linear_accel * dt, p.max_angular_accel * dt
+            v = self.velocity
+            self.velocity = [
+                v[0] + min(lin, max(-lin, target[0] - v[0])),
+                v[1] + min(lin, max(-lin, target[1] - v[1])),
+                v[2] + min(ang, max(-ang, target[2] - v[2])),
+            ]
         vx, vy, w = self.velocity
         th = self.body.angle
         c, s = math.cos(th), math.sin(th)
         self.control.velocity = (c * vx - s * vy, s * vx + c * vy)
         self.control.angular_velocity = w
         self.planned = compose(self.planned, (vx * dt, vy * dt, w * dt))
-        self._last_pose = (self.body.position.x, self.body.position.y, self.body.angle)
+        pos = self.body.position
+        self._last_pose = (pos.x, pos.y, th)
 
     def post_step(self) -> None:
         """Accumulate the true body motion of the step just simulated."""
@@ -288,6 +291,9 @@ class Robot:
         tp = min(max(t.pitch, p.head_pitch_min), p.head_pitch_max)
         dy = min(max(ty - self.head.yaw, -speed * dt), speed * dt)
         dp = min(max(tp - self.head.pitch, -speed * dt), speed * dt)
+        h = self.head
+        if dy == 0.0 and dp == 0.0 and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == t.camera:
+            return
         self.head = HeadState(
             yaw=self.head.yaw + dy,
             pitch=self.head.pitch + dp,

@@ -1,0 +1,21 @@
+# Convenience targets; the README Quickstart commands work without make.
+.PHONY: install match test lint bench train-install
+
+install:
+	pip install -e .
+
+match: install
+	teamsim match
+
+test:
+	pip install -e '.[dev]' && python -m pytest
+
+lint:
+	ruff check . && ruff format --check .
+
+bench:
+	python -m benchmarks.bench_physics --json out/bench_physics.json
+
+# torch first, pinned: an unpinned torch pulls a multi-GB CUDA build
+train-install:
+	pip install torch==2.13.0 && pip install -e '.[all]'

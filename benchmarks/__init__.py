@@ -1,0 +1,1 @@
+"""Throughput measurements (not tests): run each module as a script."""
