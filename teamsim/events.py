@@ -21,8 +21,8 @@ ForceFall          make a robot fall for a given duration
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
 from cognition.gamestate import Penalty

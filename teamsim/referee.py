@@ -15,14 +15,15 @@ LEAVING_THE_FIELD       an active robot that had entered the field is fully outs
 ILLEGAL_POSITION_IN_SET a robot is in an illegal kickoff position when SET begins and the
                         rule set penalises (``spl2025``); ``spl2010`` places it instead
 PLAYER_PUSHING          a robot drives into an opponent (pushing evidence from contacts)
-                        for ``pushing_seconds``, or its charge topples the opponent
-INACTIVE_PLAYER         a robot has been fallen for ``inactive_seconds``
-LOCAL_GAME_STUCK        the ball has stayed within ``stuck_radius`` for ``stuck_seconds``
+                        for ``fouls.pushing_seconds``, or its charge topples the opponent
+INACTIVE_PLAYER         a robot has been fallen for ``fouls.inactive_seconds``
+LOCAL_GAME_STUCK        the ball has stayed within ``fouls.stuck_radius`` for ``fouls.stuck_seconds``
                         with a robot next to it; the nearest robot is removed
 ======================  =================================================================
 
-A penalised robot is removed from the field, waits ``penalty_seconds`` and is placed back
-by the return rule (:mod:`teamsim.placement`). Scripts can request any penalty.
+The evidence is gathered by :class:`teamsim.fouls.FoulDetector`. A penalised robot is
+removed from the field, waits ``penalty_seconds`` and is placed back by the return rule
+(:mod:`teamsim.placement`). Scripts can request any penalty.
 
 Manual placement: robots placed by the referee are carried, so their ``picked_up`` signal
 is on for ``carry_seconds``.
@@ -46,6 +47,7 @@ from cognition.gamestate import (
 )
 from cognition.positions import kickoff_position
 from teamsim.events import EventLog
+from teamsim.fouls import FoulDetector, FoulParams
 from teamsim.params import check_choice, check_non_negative, check_positive
 from teamsim.placement import (
     RETURN_RULES,
@@ -81,12 +83,7 @@ class RefereeParams:
     carry_seconds: float = 1.5
     rules: Literal["spl2025", "spl2010"] = "spl2025"
     set_position_rule: Literal["auto", "place", "penalize"] = "auto"
-    pushing_seconds: float = 2.0
-    push_min_speed: float = 0.05
-    inactive_seconds: float = 20.0
-    stuck_seconds: float = 20.0
-    stuck_radius: float = 0.3
-    stuck_robot_distance: float = 0.5
+    fouls: FoulParams = field(default_factory=FoulParams)
     team_numbers: tuple[int, int] = (1, 2)
 
     def __post_init__(self) -> None:
@@ -96,10 +93,6 @@ class RefereeParams:
             ready_seconds=self.ready_seconds,
             set_seconds=self.set_seconds,
             penalty_seconds=self.penalty_seconds,
-            pushing_seconds=self.pushing_seconds,
-            inactive_seconds=self.inactive_seconds,
-            stuck_seconds=self.stuck_seconds,
-            stuck_radius=self.stuck_radius,
         )
         check_non_negative(
             "RefereeParams",
@@ -108,7 +101,6 @@ class RefereeParams:
             kickoff_free_seconds=self.kickoff_free_seconds,
             set_play_seconds=self.set_play_seconds,
             carry_seconds=self.carry_seconds,
-            push_min_speed=self.push_min_speed,
         )
         check_choice("RefereeParams", "rules", self.rules, RETURN_RULES)
         check_choice(
@@ -137,14 +129,7 @@ class _RobotStatus:
     penalized_until: float = 0.0
     removed_at: tuple[float, float] = (0.0, 0.0)
     carried_until: float = -1.0
-    entered_field: bool = False
     penalty_count: int = 0
-
-
-@dataclass
-class _PushTrack:
-    seconds: float = 0.0
-    last_seen: float = -1.0
 
 
 @dataclass
@@ -186,8 +171,7 @@ class Referee:
         self.status: dict[RobotId, _RobotStatus] = {(r.team, r.number): _RobotStatus() for r in world.robots}
         self.counters = RefereeCounters()
         self.last_touch_team: int | None = None
-        self._push: dict[tuple[RobotId, RobotId], _PushTrack] = {}
-        self._stuck_anchor = (0.0, 0.0, 0.0)
+        self.fouls = FoulDetector(world, field_map, params.fouls)
         self._ready_still_since = -1.0
         self._kickoff_until = 0.0
         self._budget_left = [0, 0]
@@ -217,7 +201,7 @@ class Referee:
     def _place(self, robot: Robot, team_pose: tuple[float, float, float], now: float, carried: bool) -> None:
         robot.teleport(*team_to_world(self.sign(robot.team), *team_pose))
         st = self.status[(robot.team, robot.number)]
-        st.entered_field = is_inside_field(self.field, team_pose[0], team_pose[1])
+        self.fouls.placed((robot.team, robot.number), is_inside_field(self.field, team_pose[0], team_pose[1]))
         if carried:
             st.carried_until = now + self.params.carry_seconds
             robot.picked_up = True
@@ -378,7 +362,7 @@ class Referee:
         elif s == GameStateId.SET and now - self.state_since >= p.set_seconds:
             self._enter(GameStateId.PLAYING, now)
             self._kickoff_until = now + p.kickoff_free_seconds
-            self._stuck_anchor = (self.world.ball.position.x, self.world.ball.position.y, now)
+            self.fouls.reset_stuck(self.world.ball.position.x, self.world.ball.position.y, now)
             self.counters.kickoffs.append((now, self.kicking_team))
             self.log.add(now, "kickoff", team=self.kicking_team)
         elif s == GameStateId.PLAYING:
@@ -494,7 +478,7 @@ class Referee:
         self.set_play = play
         self.kicking_team = team
         self.set_play_until = now + self.params.set_play_seconds
-        self._stuck_anchor = (x, y, now)
+        self.fouls.reset_stuck(x, y, now)
         self.counters.set_plays.append((now, int(play), team))
         self.log.add(now, "set_play", play=play.name, team=team, x=x, y=y)
 
@@ -525,72 +509,12 @@ class Referee:
 
     # -- automatic penalties ---------------------------------------------------------------
     def _auto_penalties(self, now: float, events: Sequence[CollisionEvent]) -> None:
-        p = self.params
-        f = self.field
-        for r in self.world.robots:
-            key = (r.team, r.number)
-            st = self.status[key]
-            if st.penalty != Penalty.NONE or not r.in_space:
-                continue
-            tx, ty, _ = self.team_pose(r)
-            inside = is_inside_field(f, tx, ty)
-            if inside:
-                st.entered_field = True
-            elif st.entered_field and not is_inside_field(f, tx, ty, margin=r.params.radius):
-                in_goal = abs(ty) < f.dims.goal_inner_width / 2 and abs(tx) < f.half_length + f.dims.goal_depth
-                if not in_goal:
-                    self.penalize(r.team, r.number, Penalty.LEAVING_THE_FIELD, now)
-                    continue
-            if r.is_fallen() and now - r.fallen_since >= p.inactive_seconds:
-                self.penalize(r.team, r.number, Penalty.INACTIVE_PLAYER, now)
-        self._check_pushing(now, events)
-        if self.state == GameStateId.PLAYING:
-            self._check_stuck(now)
+        def team_pose(team: int, number: int) -> tuple[float, float, float]:
+            return self.team_pose(self.world.robot(team, number))
 
-    def _check_pushing(self, now: float, events: Sequence[CollisionEvent]) -> None:
-        p = self.params
-        seen: dict[tuple[RobotId, RobotId], CollisionEvent] = {}
-        for ev in events:
-            if ev.kind == "robot_robot" and ev.b is not None and ev.a[0] != ev.b[0]:
-                seen[(ev.a, ev.b)] = ev
-        dt = self.world.dt
-        for ev in seen.values():
-            for pusher, victim, push, other in (
-                (ev.a, ev.b, ev.push_a, ev.push_b),
-                (ev.b, ev.a, ev.push_b, ev.push_a),
-            ):
-                assert victim is not None
-                if push < p.push_min_speed or push <= other + p.push_min_speed:
-                    continue
-                track = self._push.setdefault((pusher, victim), _PushTrack())
-                if now - track.last_seen > 0.5:
-                    track.seconds = 0.0
-                track.seconds += dt
-                track.last_seen = now
-                toppled = ev.first and self.world.robot(*victim).is_fallen() and push > 0.1
-                if (track.seconds >= p.pushing_seconds or toppled) and self.is_active(*pusher):
-                    self.penalize(pusher[0], pusher[1], Penalty.PLAYER_PUSHING, now)
-                    track.seconds = 0.0
-
-    def _check_stuck(self, now: float) -> None:
-        p = self.params
-        bx, by = self.world.ball.position
-        ax, ay, since = self._stuck_anchor
-        if math.hypot(bx - ax, by - ay) > p.stuck_radius:
-            self._stuck_anchor = (bx, by, now)
-            return
-        if now - since < p.stuck_seconds:
-            return
-        self._stuck_anchor = (bx, by, now)
-        best: tuple[float, Robot] | None = None
-        for r in self.world.robots:
-            if not r.in_space:
-                continue
-            d = math.hypot(r.body.position.x - bx, r.body.position.y - by)
-            if d <= p.stuck_robot_distance + r.params.radius and (best is None or d < best[0]):
-                best = (d, r)
-        if best is not None:
-            self.penalize(best[1].team, best[1].number, Penalty.LOCAL_GAME_STUCK, now)
+        check_stuck = self.state == GameStateId.PLAYING
+        for (team, number), code in self.fouls.detect(now, events, team_pose, check_stuck):
+            self.penalize(team, number, code, now)
 
     def _update_penalty_timers(self, now: float) -> None:
         for (team, number), st in self.status.items():

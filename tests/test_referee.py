@@ -13,6 +13,7 @@ from cognition.gamestate import GameStateId, Penalty, SetPlay
 from cognition.oracle import OracleInput
 from cognition.representations import SensorFrame, WalkRequest
 from teamsim.events import ForceFall, ForcePenalty, Kidnap, PlaceBall
+from teamsim.fouls import FoulParams
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
 
@@ -235,7 +236,7 @@ def test_short_fall_is_not_penalised_and_robot_gets_up() -> None:
 
 
 def test_local_game_stuck_removes_the_nearest_robot() -> None:
-    match, _ = stand_match(short_config(stuck_seconds=8.0))
+    match, _ = stand_match(short_config(fouls=FoulParams(stuck_seconds=8.0)))
     run_until_state(match, GameStateId.PLAYING)
     x, y, _ = match.world.robot(1, 4).pose
     match.world.place_ball(x + 0.3, y)

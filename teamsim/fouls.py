@@ -1,0 +1,154 @@
+"""Automatic foul detection: the evidence behind the referee's automatic penalties.
+
+The detector looks at the world after each physics step and names the robots that committed
+a foul; the referee then penalises them. Thresholds (:class:`FoulParams`, seconds and metres):
+
+======================  ========  ===========================================================
+parameter               default   foul
+======================  ========  ===========================================================
+pushing_seconds         2.0 s     PLAYER_PUSHING: a robot's walking engine drives it into an
+                                  opponent (faster than the opponent drives back, by at least
+push_min_speed          0.05 m/s  ``push_min_speed``) for this long, or its charge topples the
+                                  opponent
+inactive_seconds        20 s      INACTIVE_PLAYER: fallen for this long
+stuck_seconds           20 s      LOCAL_GAME_STUCK: the ball stayed within ``stuck_radius``
+stuck_radius            0.3 m     for this long while a robot stood within
+stuck_robot_distance    0.5 m     ``stuck_robot_distance`` of it; the nearest robot is named
+======================  ========  ===========================================================
+
+LEAVING_THE_FIELD: a robot that had entered the field is entirely outside the outer edges of
+the field lines (more than its radius beyond them) and not inside its goal.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+from cognition.field import Field
+from cognition.gamestate import Penalty
+from teamsim.params import check_positive
+from teamsim.placement import is_inside_field
+from teamsim.world import CollisionEvent, RobotId, World
+
+
+@dataclass(frozen=True)
+class FoulParams:
+    """Thresholds of the automatic fouls (see module table)."""
+
+    pushing_seconds: float = 2.0
+    push_min_speed: float = 0.05
+    inactive_seconds: float = 20.0
+    stuck_seconds: float = 20.0
+    stuck_radius: float = 0.3
+    stuck_robot_distance: float = 0.5
+
+    def __post_init__(self) -> None:
+        check_positive(
+            "FoulParams",
+            pushing_seconds=self.pushing_seconds,
+            push_min_speed=self.push_min_speed,
+            inactive_seconds=self.inactive_seconds,
+            stuck_seconds=self.stuck_seconds,
+            stuck_radius=self.stuck_radius,
+            stuck_robot_distance=self.stuck_robot_distance,
+        )
+
+
+@dataclass
+class _PushTrack:
+    seconds: float = 0.0
+    last_seen: float = -1.0
+
+
+Foul = tuple[RobotId, Penalty]
+TeamPose = Callable[[int, int], tuple[float, float, float]]
+
+
+class FoulDetector:
+    """Stateful detector of the automatic fouls (see the module docstring)."""
+
+    def __init__(self, world: World, field_map: Field, params: FoulParams):
+        self.world = world
+        self.field = field_map
+        self.params = params
+        self.entered_field: dict[RobotId, bool] = {(r.team, r.number): False for r in world.robots}
+        self._push: dict[tuple[RobotId, RobotId], _PushTrack] = {}
+        self._stuck_anchor = (0.0, 0.0, 0.0)
+
+    def placed(self, robot: RobotId, inside: bool) -> None:
+        """A robot was put somewhere; ``inside``: whether that spot is inside the field."""
+        self.entered_field[robot] = inside
+
+    def reset_stuck(self, x: float, y: float, now: float) -> None:
+        """The ball was (re)placed at (x, y) world frame: restart the stuck clock."""
+        self._stuck_anchor = (x, y, now)
+
+    def detect(
+        self, now: float, events: Sequence[CollisionEvent], team_pose: TeamPose, check_stuck: bool
+    ) -> list[Foul]:
+        """Fouls committed in the step that ended at ``now``, in a deterministic order."""
+        fouls: list[Foul] = []
+        p = self.params
+        f = self.field
+        for r in self.world.robots:
+            if not r.in_space or r.penalized:
+                continue
+            key = (r.team, r.number)
+            tx, ty, _ = team_pose(r.team, r.number)
+            if is_inside_field(f, tx, ty):
+                self.entered_field[key] = True
+            elif self.entered_field[key] and not is_inside_field(f, tx, ty, margin=r.params.radius):
+                in_goal = abs(ty) < f.dims.goal_inner_width / 2 and abs(tx) < f.half_length + f.dims.goal_depth
+                if not in_goal:
+                    fouls.append((key, Penalty.LEAVING_THE_FIELD))
+                    continue
+            if r.is_fallen() and now - r.fallen_since >= p.inactive_seconds:
+                fouls.append((key, Penalty.INACTIVE_PLAYER))
+        fouls.extend(self._pushing(now, events))
+        if check_stuck:
+            fouls.extend(self._stuck(now))
+        return fouls
+
+    def _pushing(self, now: float, events: Sequence[CollisionEvent]) -> list[Foul]:
+        p = self.params
+        seen: dict[tuple[RobotId, RobotId], CollisionEvent] = {}
+        for ev in events:
+            if ev.kind == "robot_robot" and ev.b is not None and ev.a[0] != ev.b[0]:
+                seen[(ev.a, ev.b)] = ev
+        fouls: list[Foul] = []
+        for ev in seen.values():
+            assert ev.b is not None
+            for pusher, victim, push, other in ((ev.a, ev.b, ev.push_a, ev.push_b), (ev.b, ev.a, ev.push_b, ev.push_a)):
+                if push < p.push_min_speed or push <= other + p.push_min_speed:
+                    continue
+                track = self._push.setdefault((pusher, victim), _PushTrack())
+                if now - track.last_seen > 0.5:
+                    track.seconds = 0.0
+                track.seconds += self.world.dt
+                track.last_seen = now
+                toppled = ev.first and self.world.robot(*victim).is_fallen() and push > 0.1
+                if track.seconds >= p.pushing_seconds or toppled:
+                    fouls.append((pusher, Penalty.PLAYER_PUSHING))
+                    track.seconds = 0.0
+        return fouls
+
+    def _stuck(self, now: float) -> list[Foul]:
+        p = self.params
+        bx, by = self.world.ball.position
+        ax, ay, since = self._stuck_anchor
+        if math.hypot(bx - ax, by - ay) > p.stuck_radius:
+            self._stuck_anchor = (bx, by, now)
+            return []
+        if now - since < p.stuck_seconds:
+            return []
+        self._stuck_anchor = (bx, by, now)
+        best: tuple[float, RobotId] | None = None
+        for r in self.world.robots:
+            if not r.in_space:
+                continue
+            d = math.hypot(r.body.position.x - bx, r.body.position.y - by)
+            if d <= p.stuck_robot_distance + r.params.radius and (best is None or d < best[0]):
+                best = (d, (r.team, r.number))
+        return [] if best is None else [(best[1], Penalty.LOCAL_GAME_STUCK)]
