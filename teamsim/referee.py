@@ -1,6 +1,7 @@
 """The referee and game controller: SPL game states, goals, set plays, penalties, placement.
 
-State machine (per half): INITIAL -> READY -> SET -> PLAYING -> (goal) READY -> ... and at
+State machine (per half): INITIAL -> [STANDBY, if ``standby_seconds`` > 0] -> READY -> SET ->
+PLAYING -> (goal) READY -> ... and at
 the end of the half FINISHED; after the half-time break the teams switch sides and the
 second half starts in INITIAL. The kicking team alternates between halves; after a goal the
 conceding team kicks off. The game clock (``secs_remaining``) runs in PLAYING only.
@@ -75,6 +76,7 @@ class RefereeParams:
     half_seconds: float = 600.0
     halftime_seconds: float = 10.0
     initial_seconds: float = 2.0
+    standby_seconds: float = 0.0
     ready_seconds: float = 45.0
     set_seconds: float = 5.0
     kickoff_free_seconds: float = 10.0
@@ -98,6 +100,7 @@ class RefereeParams:
             "RefereeParams",
             halftime_seconds=self.halftime_seconds,
             initial_seconds=self.initial_seconds,
+            standby_seconds=self.standby_seconds,
             kickoff_free_seconds=self.kickoff_free_seconds,
             set_play_seconds=self.set_play_seconds,
             carry_seconds=self.carry_seconds,
@@ -356,6 +359,11 @@ class Referee:
         p = self.params
         s = self.state
         if s == GameStateId.INITIAL and now - self.state_since >= p.initial_seconds:
+            if p.standby_seconds > 0:
+                self._enter(GameStateId.STANDBY, now)
+            else:
+                self._start_ready(now)
+        elif s == GameStateId.STANDBY and now - self.state_since >= p.standby_seconds:
             self._start_ready(now)
         elif s == GameStateId.READY:
             self._update_ready(now)

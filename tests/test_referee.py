@@ -75,6 +75,17 @@ def test_state_sequence_and_game_packet() -> None:
     assert match.game_state().secs_remaining == start - 5
 
 
+def test_optional_standby_state() -> None:
+    match, _ = stand_match(short_config(standby_seconds=3.0))
+    seen = [match.referee.state]
+    while match.referee.state != GameStateId.READY:
+        match.step()
+        if match.referee.state != seen[-1]:
+            seen.append(match.referee.state)
+    assert seen == [GameStateId.INITIAL, GameStateId.STANDBY, GameStateId.READY]
+    assert match.time == pytest.approx(2.0 + 3.0, abs=0.02)
+
+
 def test_goal_scores_and_conceding_team_kicks_off() -> None:
     match, _ = stand_match()
     run_until_state(match, GameStateId.PLAYING)
