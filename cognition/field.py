@@ -37,6 +37,8 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from cognition.geometry import wrap_angle
+
 GoalName = Literal["own", "opponent"]
 CrossingKind = Literal["L", "T", "X"]
 CROSSING_KINDS: tuple[CrossingKind, ...] = ("L", "T", "X")
@@ -46,20 +48,12 @@ _I8 = np.int8
 _TOL = 1e-6  # metres; geometric tolerance for junction detection
 
 
-def _wrap(a: float) -> float:
-    """Wrap an angle (rad) to (-pi, pi]."""
-    a = math.fmod(a + math.pi, 2.0 * math.pi)
-    if a <= 0.0:
-        a += 2.0 * math.pi
-    return a - math.pi
-
-
 def mirrored(x: float, y: float, theta: float) -> tuple[float, float, float]:
     """The pose symmetric to (x m, y m, theta rad) under the field's point symmetry.
 
     Returns (-x, -y, theta + pi) with the angle wrapped to (-pi, pi].
     """
-    return (-x, -y, _wrap(theta + math.pi))
+    return (-x, -y, wrap_angle(theta + math.pi))
 
 
 _OPTIONAL = ("penalty_area_length", "penalty_area_width", "corner_pole_offset")
@@ -456,10 +450,10 @@ def _arms(px: float, py: float, lines: tuple[LineSegment, ...], c: CentreCircle)
             arms.append(math.atan2(dy, dx))
     if abs(math.hypot(px - c.x, py - c.y) - c.radius) < _TOL:
         radial = math.atan2(py - c.y, px - c.x)
-        arms += [_wrap(radial + math.pi / 2), _wrap(radial - math.pi / 2)]
+        arms += [wrap_angle(radial + math.pi / 2), wrap_angle(radial - math.pi / 2)]
     distinct: list[float] = []
     for a in arms:
-        if all(abs(_wrap(a - b)) > 1e-6 for b in distinct):
+        if all(abs(wrap_angle(a - b)) > 1e-6 for b in distinct):
             distinct.append(a)
     return distinct
 
@@ -468,18 +462,18 @@ def _classify(arms: list[float]) -> tuple[CrossingKind, float] | None:
     """Kind and orientation (rad) of a junction with these arm directions, or None."""
 
     def opposite(a: float, b: float) -> bool:
-        return abs(abs(_wrap(a - b)) - math.pi) < 1e-6
+        return abs(abs(wrap_angle(a - b)) - math.pi) < 1e-6
 
     if len(arms) == 2:
         if opposite(*arms):
             return None  # a straight line passing through: no junction
         bisector = math.atan2(sum(map(math.sin, arms)), sum(map(math.cos, arms)))
-        return "L", _wrap(bisector)
+        return "L", wrap_angle(bisector)
     if len(arms) == 3:
         for i, stem in enumerate(arms):
             others = [a for j, a in enumerate(arms) if j != i]
             if opposite(*others):
-                return "T", _wrap(stem)
+                return "T", wrap_angle(stem)
         raise ValueError(f"junction with arms {arms} is not a T")
     if len(arms) == 4:
         quarter = math.pi / 2

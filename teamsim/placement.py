@@ -20,7 +20,7 @@ import math
 from typing import Literal
 
 from cognition.field import Field
-from teamsim.robot import wrap_angle
+from cognition.geometry import wrap_angle
 
 ReturnRule = Literal["spl2025", "spl2010"]
 RETURN_RULES: tuple[str, ...] = ("spl2025", "spl2010")

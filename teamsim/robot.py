@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 import pymunk
 
+from cognition.geometry import wrap_angle
 from cognition.representations import HeadRequest, HeadState, KickRequest, WalkRequest
 from teamsim.params import check_positive
 
@@ -52,14 +53,6 @@ COLLISION_ROBOT = 1
 COLLISION_BALL = 2
 COLLISION_POST = 3
 COLLISION_WALL = 4
-
-
-def wrap_angle(a: float) -> float:
-    """Wrap an angle to (-pi, pi]."""
-    a = math.fmod(a + math.pi, 2.0 * math.pi)
-    if a <= 0.0:
-        a += 2.0 * math.pi
-    return a - math.pi
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 from cognition.brain import BrainContext
 from cognition.gamestate import GameStateId, SetPlay
+from cognition.geometry import wrap_angle
 from cognition.oracle import OracleInput, OraclePose
 from cognition.positions import kickoff_position
 from cognition.representations import (
@@ -45,10 +46,6 @@ from cognition.representations import (
 
 STATUS_FORMAT = struct.Struct("<Bfff")
 """Status message: player number, x (m), y (m), theta (rad) in the team frame."""
-
-
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
 @dataclass(frozen=True)
@@ -133,7 +130,7 @@ class OracleBrain:
     # -- actions ---------------------------------------------------------------------------
     def _head(self, oracle: OracleInput) -> HeadRequest:
         me = oracle.self_pose
-        bearing = _wrap(math.atan2(oracle.ball_y - me.y, oracle.ball_x - me.x) - me.theta)
+        bearing = wrap_angle(math.atan2(oracle.ball_y - me.y, oracle.ball_x - me.x) - me.theta)
         return HeadRequest(yaw=max(-1.5, min(1.5, bearing)), pitch=0.3)
 
     def _act_stand(self, frame: SensorFrame, oracle: OracleInput) -> MotionRequest:
@@ -171,8 +168,8 @@ class OracleBrain:
         bx, by = oracle.ball_x, oracle.ball_y
         aim = self._feasible_aim(bx, by)
         dist = math.hypot(bx - me.x, by - me.y)
-        bearing = _wrap(math.atan2(by - me.y, bx - me.x) - me.theta)
-        aim_rel = _wrap(aim - me.theta)
+        bearing = wrap_angle(math.atan2(by - me.y, bx - me.x) - me.theta)
+        aim_rel = wrap_angle(aim - me.theta)
         if dist < p.kick_distance and abs(bearing) < p.kick_bearing and abs(aim_rel) < 0.6:
             return MotionRequest(kick=KickRequest(direction=aim_rel, strength=1.0), head=self._head(oracle))
         behind = (
@@ -255,9 +252,9 @@ class OracleBrain:
         c, s = math.cos(me.theta), math.sin(me.theta)
         fx, fy = c * dx + s * dy, -s * dx + c * dy
         if dist > final_heading_radius:
-            heading_err = _wrap(math.atan2(dy, dx) - me.theta)
+            heading_err = wrap_angle(math.atan2(dy, dx) - me.theta)
         else:
-            heading_err = _wrap(tth - me.theta)
+            heading_err = wrap_angle(tth - me.theta)
         if dist < 0.03 and abs(heading_err) < 0.05:
             return WalkRequest()
         slow = 1.0 if abs(heading_err) < 0.6 or dist < final_heading_radius else 0.3
