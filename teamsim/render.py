@@ -42,6 +42,7 @@ ROBOT_RADIUS = 0.15
 """Radius of a drawn robot (m)."""
 
 RGB = tuple[int, int, int]
+Img = np.ndarray
 _SHIFT = 4  # sub-pixel bits for cv2 drawing
 _ONE = 1 << _SHIFT
 _AA = cv2.LINE_AA
@@ -100,7 +101,8 @@ class TopDownRenderer:
     ) -> None:
         ppm = float(pixels_per_metre)
         if not math.isfinite(ppm) or not 5.0 <= ppm <= 400.0:
-            raise ValueError(f"pixels_per_metre must be finite and between 5 and 400, got {pixels_per_metre!r}")
+            v = pixels_per_metre
+            raise ValueError(f"pixels_per_metre must be finite and between 5 and 400, got {v!r}")
         if len(team_names) != 2 or not all(isinstance(n, str) for n in team_names):
             raise ValueError(f"team_names must be two strings, got {team_names!r}")
         if len(scheme.team_colours) != 2:
@@ -143,7 +145,7 @@ class TopDownRenderer:
         return round(max(metres * self.pixels_per_metre, minimum) * _ONE)
 
     # ----------------------------------------------------------------- primitives
-    def _bar(self, img: np.ndarray, x1: float, y1: float, x2: float, y2: float, w: float, col: RGB) -> None:
+    def _bar(self, img: Img, x1: float, y1: float, x2: float, y2: float, w: float, c: RGB) -> None:
         """Filled rectangle of width ``w`` (m) along a segment, ends extended by w/2."""
         dx, dy = x2 - x1, y2 - y1
         n = math.hypot(dx, dy) or 1.0
@@ -151,16 +153,16 @@ class TopDownRenderer:
         pts = [(x1 - ux - uy, y1 - uy + ux), (x2 + ux - uy, y2 + uy + ux)]
         pts += [(x2 + ux + uy, y2 + uy - ux), (x1 - ux + uy, y1 - uy - ux)]
         poly = np.array([self._pt(px, py) for px, py in pts], np.int32)
-        cv2.fillPoly(img, [poly], col, _AA, _SHIFT)
+        cv2.fillPoly(img, [poly], c, _AA, _SHIFT)
 
-    def _disc(self, img: np.ndarray, x: float, y: float, r: float, col: RGB, thick: int = -1) -> None:
+    def _disc(self, img: Img, x: float, y: float, r: float, col: RGB, thick: int = -1) -> None:
         cv2.circle(img, self._pt(x, y), self._r(r, 0.5), col, thick, _AA, _SHIFT)
 
     @staticmethod
     def _text(img: np.ndarray, s: str, org: tuple[int, int], col: RGB, scale: float = 0.45) -> None:
         cv2.putText(img, s, org, _FONT, scale, col, 1, _AA)
 
-    def _centred_text(self, img: np.ndarray, s: str, x: float, y: float, col: RGB, scale: float) -> None:
+    def _centred_text(self, img: Img, s: str, x: float, y: float, col: RGB, scale: float) -> None:
         (tw, th), _ = cv2.getTextSize(s, _FONT, scale, 1)
         c, r = self._ipt(x, y)
         self._text(img, s, (c - tw // 2, r + th // 2), col, scale)
@@ -241,9 +243,12 @@ class TopDownRenderer:
 
     def _draw_robot(self, img: np.ndarray, r: RobotTruth, game: GameControlData | None) -> None:
         penalized = r.penalized
-        if game is not None and 0 <= r.team < 2 and 1 <= r.number <= len(game.teams[r.team].players):
-            penalized = penalized or game.teams[r.team].players[r.number - 1].penalty != 0
-        jersey = tuple(self.scheme.team_colours[r.team % 2])
+        if r.team not in (0, 1):
+            raise ValueError(f"RobotTruth.team must be 0 or 1, got {r.team!r}")
+        players = game.teams[r.team].players if game is not None else ()
+        if 1 <= r.number <= len(players):
+            penalized = penalized or players[r.number - 1].penalty != 0
+        jersey = tuple(self.scheme.team_colours[r.team])
         fill = _GREY if penalized else jersey
         ring_px = 2.0 / self.pixels_per_metre
         if r.picked_up:
@@ -279,7 +284,7 @@ class TopDownRenderer:
             c, r = self._ipt(ov.x, ov.y)
             self._text(img, ov.label, (c + 6, r - 6), col, 0.4)
 
-    def _draw_header(self, img: np.ndarray, snap: WorldSnapshot, game: GameControlData | None) -> None:
+    def _draw_header(self, img: Img, snap: WorldSnapshot, game: GameControlData | None) -> None:
         cols = self.scheme.team_colours
         x = 6
         for i, name in enumerate(self.team_names):
@@ -338,7 +343,7 @@ class VideoWriter:
             raise RuntimeError(f"VideoWriter for {self.path} is closed")
         frame = np.asarray(frame_rgb)
         if frame.dtype != np.uint8 or frame.ndim != 3 or frame.shape[2] != 3:
-            raise ValueError(f"frame must be a uint8 H x W x 3 array, got {frame.dtype} {frame.shape}")
+            raise ValueError(f"frame must be uint8 H x W x 3, got {frame.dtype} {frame.shape}")
         if self._shape is None:
             self._shape = frame.shape
             if not self._gif:
@@ -349,7 +354,7 @@ class VideoWriter:
                     self._cv = None
                     raise RuntimeError(f"cv2 could not open an mp4v video writer for {self.path}")
         elif frame.shape != self._shape:
-            raise ValueError(f"frame shape {frame.shape} differs from the first frame's {self._shape}")
+            raise ValueError(f"frame shape {frame.shape} differs from the first {self._shape}")
         if self._gif:
             k = self.gif_scale
             if k > 1:
@@ -374,7 +379,8 @@ class VideoWriter:
 
             images = [Image.fromarray(f) for f in self._frames]
             duration = max(1, round(1000.0 / self.fps))
-            images[0].save(self.path, save_all=True, append_images=images[1:], duration=duration, loop=0)
+            opts = {"save_all": True, "append_images": images[1:], "loop": 0}
+            images[0].save(self.path, duration=duration, **opts)
             self._frames.clear()
 
     def __enter__(self) -> VideoWriter:
