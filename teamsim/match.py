@@ -231,7 +231,8 @@ class Match:
         seq = np.random.SeedSequence(c.seed)
         children = seq.spawn(4 + 4 * n)
         gens = [np.random.Generator(np.random.PCG64(s)) for s in children]
-        fall_rng, channel_rng, self._event_rng, _reserved = gens[:4]
+        # fixed consumer order; new consumers go at the end so existing streams stay the same
+        fall_rng, channel_rng, self._event_rng, _spare = gens[:4]
         robot_rngs = gens[4 : 4 + 2 * n]
         odo_rngs = gens[4 + 2 * n : 4 + 4 * n]
         self.log = log or EventLog()
