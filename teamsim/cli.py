@@ -24,7 +24,8 @@ from typing import Any, TextIO
 
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
 from teamsim.events import EventLog, LogEvent
-from teamsim.match import MAX_PLAYERS_PER_TEAM, Match, MatchConfig
+from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, Match, MatchConfig
+from teamsim.percept_params import PerceptParams
 
 
 def _match_parser(sub: Any) -> None:
@@ -48,6 +49,18 @@ def _match_parser(sub: Any) -> None:
         choices=["spl2025", "spl2010"],
         default=None,
         help="penalty return rule set (default spl2025)",
+    )
+    p.add_argument(
+        "--percepts",
+        choices=sorted(PerceptParams.PRESETS),
+        default=None,
+        help="percept noise preset of the camera model (default: default)",
+    )
+    p.add_argument(
+        "--observation",
+        choices=list(OBSERVATIONS),
+        default=None,
+        help="what sensor frames carry: synthesized percepts or nothing (default percepts)",
     )
     p.add_argument("--config", type=Path, default=None, help="JSON file with MatchConfig overrides")
     p.add_argument("--video", type=Path, default=None, help="write a top-down video (.mp4 or .gif)")
@@ -86,6 +99,11 @@ def config_from_args(args: argparse.Namespace) -> MatchConfig:
         data["field"] = args.field
     if args.colours is not None:
         data["colours"] = args.colours
+    if args.percepts is not None:
+        current = data.get("percepts")
+        data["percepts"] = dict(current, preset=args.percepts) if isinstance(current, dict) else args.percepts
+    if args.observation is not None:
+        data["observation"] = args.observation
     referee = dict(data.get("referee", {}))
     if args.half_seconds is not None:
         referee["half_seconds"] = args.half_seconds

@@ -24,14 +24,22 @@ physics                  PhysicsParams  world and robot bodies
 referee                  RefereeParams  rules and timing (half_seconds, rules, ...)
 odometry                 OdometryParams odometry error model
 channel                  ChannelParams  team-message delay, loss, budget
+observation              percepts    what sensor frames carry: ``percepts`` (synthesized
+                                     by the camera model) or ``none``
+percepts                 default     PerceptParams or a preset name (ideal, default, harsh)
+camera                   CameraRig   head height and the two NAO cameras (320 x 240)
 events                   ()          scripted events (kidnap, penalties, ...)
 =======================  ==========  =============================================
+
+Camera images are taken ``percepts.latency`` seconds before the cognition frame that
+receives them (rounded to physics steps); :attr:`cognition.percepts.Percepts.time` says when.
 """
 
 from __future__ import annotations
 
 import math
 import time as wallclock
+from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from dataclasses import field as dataclass_field
@@ -40,9 +48,11 @@ from typing import Any
 import numpy as np
 
 from cognition.brain import Brain, BrainContext
-from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_field
+from cognition.camera import CameraRig
+from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_colour_scheme, make_field
 from cognition.gamestate import GameControlData, GameStateId, Penalty
 from cognition.oracle import OracleInput, OraclePose
+from cognition.percepts import Percepts
 from cognition.representations import SensorFrame
 from teamsim.channel import ChannelParams, TeamChannel
 from teamsim.events import (
@@ -55,12 +65,16 @@ from teamsim.events import (
 )
 from teamsim.odometry import OdometryModel, OdometryParams, TrueOdometry
 from teamsim.params import check_choice, check_positive, from_mapping
+from teamsim.percept_params import PerceptParams
+from teamsim.percepts import PerceptSynthesizer, Scene
 from teamsim.placement import world_to_team
 from teamsim.referee import Referee, RefereeParams
 from teamsim.state import WorldSnapshot
 from teamsim.world import PhysicsParams, World
 
 MAX_PLAYERS_PER_TEAM = 7
+OBSERVATIONS = ("percepts", "none")
+"""Valid values of :attr:`MatchConfig.observation`."""
 
 
 @dataclass(frozen=True)
@@ -76,6 +90,9 @@ class MatchConfig:
     referee: RefereeParams = dataclass_field(default_factory=RefereeParams)
     odometry: OdometryParams = dataclass_field(default_factory=OdometryParams)
     channel: ChannelParams = dataclass_field(default_factory=ChannelParams)
+    observation: str = "percepts"
+    percepts: PerceptParams = dataclass_field(default_factory=PerceptParams)
+    camera: CameraRig = dataclass_field(default_factory=CameraRig)
     events: tuple[ScriptedEvent, ...] = ()
 
     def __post_init__(self) -> None:
@@ -89,6 +106,11 @@ class MatchConfig:
         check_choice("MatchConfig", "field", self.field, FIELD_PRESETS)
         check_choice("MatchConfig", "colours", self.colours, COLOUR_SCHEMES)
         check_positive("MatchConfig", cognition_hz=self.cognition_hz)
+        check_choice("MatchConfig", "observation", self.observation, OBSERVATIONS)
+        if isinstance(self.percepts, str):
+            object.__setattr__(self, "percepts", PerceptParams.preset(self.percepts))
+        if not isinstance(self.percepts, PerceptParams):
+            raise TypeError(f"MatchConfig.percepts must be PerceptParams or a preset name, got {self.percepts!r}")
         if self.cognition_hz > self.physics.physics_hz:
             raise ValueError(
                 f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
@@ -138,6 +160,8 @@ class MatchSummary:
     set_plays: int
     placements: int
     messages_sent: tuple[int, int]
+    percepts_per_frame: float
+    """Mean number of percepts per robot and cognition frame (0 without a camera model)."""
     sim_seconds: float
     wall_seconds: float
     physics_steps: int
@@ -171,6 +195,7 @@ class MatchSummary:
             "set_plays": self.set_plays,
             "placements": self.placements,
             "messages_sent": list(self.messages_sent),
+            "percepts_per_frame": self.percepts_per_frame,
             "sim_seconds": self.sim_seconds,
             "physics_steps": self.physics_steps,
         }
@@ -204,6 +229,7 @@ class MatchSummary:
         lines.append(f"returns        {len(self.returns)}")
         lines.append(f"set plays      {self.set_plays}, manual placements {self.placements}")
         lines.append(f"team messages  {self.messages_sent[0]} / {self.messages_sent[1]}")
+        lines.append(f"percepts       {self.percepts_per_frame:.2f} per robot and frame")
         lines.append(
             f"simulated      {self.sim_seconds:.1f} s in {self.wall_seconds:.1f} s wall "
             f"(real-time factor {self.real_time_factor:.1f}x, {self.physics_steps} physics steps)"
@@ -232,7 +258,7 @@ class Match:
         children = seq.spawn(4 + 4 * n)
         gens = [np.random.Generator(np.random.PCG64(s)) for s in children]
         # fixed consumer order; new consumers go at the end so existing streams stay the same
-        fall_rng, channel_rng, self._event_rng, _spare = gens[:4]
+        fall_rng, channel_rng, self._event_rng, percept_rng = gens[:4]
         robot_rngs = gens[4 : 4 + 2 * n]
         odo_rngs = gens[4 + 2 * n : 4 + 4 * n]
         self.log = log or EventLog()
@@ -240,6 +266,18 @@ class Match:
         self.referee = Referee(self.world, self.field, c.referee, self.log)
         self.channel = TeamChannel(c.channel, n, channel_rng)
         self.odometry = [OdometryModel(c.odometry, g) for g in odo_rngs]
+        scheme = make_colour_scheme(c.colours)
+        self.camera_model: PerceptSynthesizer | None = None
+        """The percept synthesizer (``None`` when ``observation`` is ``none``)."""
+        if c.observation == "percepts":
+            self.camera_model = PerceptSynthesizer(
+                self.field, c.percepts, percept_rng, c.camera, scheme.own_goal != scheme.opponent_goal
+            )
+        self._scene = Scene(n)
+        self._captures: deque[list[Percepts]] = deque()
+        self._capture_index = 0
+        self.percept_count = 0
+        """Percepts delivered to brains so far (all robots)."""
         self.brains: list[Brain] = []
         for robot in self.world.robots:
             brain = brains(robot.team, robot.number)
@@ -327,6 +365,11 @@ class Match:
         while self._event_index < len(self._events) and self._events[self._event_index].time <= self.time:
             self.apply_event(self._events[self._event_index])
             self._event_index += 1
+        if self.camera_model is not None:
+            hz, latency = self.config.cognition_hz, self.config.percepts.latency
+            while self.time >= self._capture_index / hz - latency - 1e-9:
+                self._captures.append(self.capture())
+                self._capture_index += 1
         if self.time >= self._next_cognition - 1e-9:
             self._cognition()
             self._next_cognition += 1.0 / self.config.cognition_hz
@@ -345,8 +388,45 @@ class Match:
         self.wall_seconds += wallclock.perf_counter() - start
         return self.summary()
 
+    def scene(self) -> Scene:
+        """The world as the camera model sees it now (reused buffer, world frame)."""
+        sc = self._scene
+        obs, occ = sc.observers, sc.occluders
+        p = self.config.percepts
+        radius = self.config.physics.robot.radius
+        for i, robot in enumerate(self.world.robots):
+            pos = robot.body.position
+            h = robot.head
+            v = robot.velocity
+            on = robot.in_space
+            fallen = robot.is_fallen()
+            o = obs[i]
+            o[0], o[1], o[2] = pos.x, pos.y, robot.body.angle
+            o[3], o[4], o[5], o[6] = h.yaw, h.pitch, h.yaw_rate, h.pitch_rate
+            o[7] = 0.0 if h.camera == "upper" else 1.0
+            o[8] = 1.0 if (v[0] != 0.0 or v[1] != 0.0 or v[2] != 0.0) else 0.0
+            o[9] = 1.0 if (on and not fallen and not robot.picked_up) else 0.0
+            o[10] = self.referee.sign(robot.team)
+            o[11] = robot.team
+            c = occ[i]
+            c[0], c[1], c[2] = pos.x, pos.y, radius
+            c[3] = p.fallen_height if fallen else p.robot_height
+            c[4] = 1.0 if on else 0.0
+        b = self.world.ball
+        sc.ball[0], sc.ball[1] = b.position.x, b.position.y
+        sc.ball[2], sc.ball[3] = b.velocity.x, b.velocity.y
+        sc.ball[4] = 1.0
+        return sc
+
+    def capture(self) -> list[Percepts]:
+        """Take one image per robot now and return what vision reports (robot index order)."""
+        if self.camera_model is None:
+            raise RuntimeError("this match has observation='none': there is no camera model")
+        return self.camera_model.synthesize(self.scene(), self.time)
+
     def _cognition(self) -> None:
         now = self.time
+        percepts = self._captures.popleft() if self._captures else None
         self.referee.set_message_budget(self.channel.budget_left)
         game = self.referee.game_state()
         inbox = [self.channel.receive(0, now), self.channel.receive(1, now)]
@@ -366,7 +446,10 @@ class Match:
                 picked_up=robot.picked_up,
                 fallen=robot.is_fallen(),
                 messages=tuple(inbox[robot.team].get(robot.number, ())),
+                percepts=percepts[i] if percepts is not None else None,
             )
+            if percepts is not None:
+                self.percept_count += len(percepts[i])
             self.last_frames[i] = frame
             oracle = None
             if brain.uses_oracle:
@@ -431,6 +514,7 @@ class Match:
             set_plays=len(c.set_plays),
             placements=c.placements,
             messages_sent=(self.channel.stats[0].sent, self.channel.stats[1].sent),
+            percepts_per_frame=self.percept_count / max(1, self.frames * len(self.world.robots)),
             sim_seconds=self.time,
             wall_seconds=self.wall_seconds,
             physics_steps=self.steps,

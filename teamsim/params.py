@@ -16,24 +16,45 @@ from typing import Any, TypeVar
 T = TypeVar("T")
 
 
-def from_mapping(cls: type[T], data: Mapping[str, Any], where: str = "") -> T:
-    """Build the dataclass ``cls`` from ``data``; nested dataclass fields accept mappings."""
+def from_mapping(cls: type[T], data: Mapping[str, Any] | str, where: str = "", base: T | None = None) -> T:
+    """Build the dataclass ``cls`` from ``data``; nested dataclass fields accept mappings.
+
+    Keys missing from ``data`` keep the value of ``base`` (or the class default). A class
+    with a ``PRESETS`` dict (name -> instance) also accepts a preset name instead of a
+    mapping, and a mapping with a ``"preset"`` key starts from that preset.
+    """
     if not dataclasses.is_dataclass(cls):
         raise TypeError(f"{cls!r} is not a dataclass")
+    label = where or cls.__name__
+    presets: Mapping[str, Any] | None = getattr(cls, "PRESETS", None)
+    if isinstance(data, str):
+        if presets is None:
+            raise TypeError(f"{label}: expected a mapping, got the string {data!r}")
+        data = {"preset": data}
     if not isinstance(data, Mapping):
-        raise TypeError(f"{where or cls.__name__}: expected a mapping, got {type(data).__name__}")
+        raise TypeError(f"{label}: expected a mapping, got {type(data).__name__}")
+    data = dict(data)
+    if presets is not None and "preset" in data:
+        name = data.pop("preset")
+        if name not in presets:
+            raise ValueError(f"unknown {label} preset {name!r}; valid presets: {sorted(presets)}")
+        base = presets[name]
     hints = typing.get_type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
     unknown = sorted(set(data) - set(fields))
     if unknown:
-        raise ValueError(f"unknown {where or cls.__name__} key(s) {unknown}; valid keys: {sorted(fields)}")
+        extra = " (or 'preset')" if presets is not None else ""
+        raise ValueError(f"unknown {label} key(s) {unknown}; valid keys: {sorted(fields)}{extra}")
     kwargs: dict[str, Any] = {}
     for name, value in data.items():
         hint = hints.get(name)
-        if isinstance(hint, type) and dataclasses.is_dataclass(hint) and isinstance(value, Mapping):
-            sub_where = f"{where}.{name}" if where else f"{cls.__name__}.{name}"
-            value = from_mapping(hint, value, sub_where)
+        if isinstance(hint, type) and dataclasses.is_dataclass(hint) and isinstance(value, Mapping | str):
+            sub_where = f"{label}.{name}"
+            sub_base = getattr(base, name) if base is not None else None
+            value = from_mapping(hint, value, sub_where, sub_base)
         kwargs[name] = value
+    if base is not None:
+        return dataclasses.replace(base, **kwargs)  # type: ignore[type-var]
     return cls(**kwargs)
 
 

@@ -1,0 +1,290 @@
+"""Pinhole camera geometry of a NAO-like head, shared by the simulator and the brain.
+
+Implements the projection that the CMU paper's vision features and the Darmstadt paper's
+angular observation model (Kohlbrecher & von Stryk, section IV.B and Fig. 2) rest on: a
+camera on a head with yaw and pitch joints, mapping points in the robot frame to pixels
+and pixels (with a known height) back to points.
+
+Frames and units:
+
+* **robot frame**: metres, origin on the ground between the feet, +x forward, +y left,
+  +z up.
+* **camera frame**: origin at the optical centre, +x along the optical axis, +y left,
+  +z up in the image.
+* **pixels**: ``u`` to the right, ``v`` down, continuous coordinates; pixel ``(i, j)`` covers
+  ``[i, i + 1) x [j, j + 1)`` and the image is ``0 <= u < width``, ``0 <= v < height``.
+
+The head: yaw about +z at the neck (``CameraRig.neck_height`` above the ground), then pitch
+about the rotated +y (positive pitch looks down), then the camera offset (``offset_x``
+forward, ``offset_z`` up in the head frame) and the camera's own downward ``tilt``.
+
+=================  =========================  =========================================
+NAO V6 camera      upper                      lower
+=================  =========================  =========================================
+tilt (down)        1.2 deg                    39.7 deg
+opening angles     54.7 x 42.5 deg            54.7 x 42.5 deg
+offset (x, z)      0.0587, 0.0636 m           0.0507, 0.0177 m
+height at pitch 0  0.504 m                    0.458 m  (neck height 0.44 m)
+=================  =========================  =========================================
+
+The numba functions at the end (``*_nb``) are the same geometry for compiled hot loops.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Literal
+
+import numba as nb
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+CameraName = Literal["upper", "lower"]
+CAMERA_NAMES: tuple[CameraName, ...] = ("upper", "lower")
+"""Index 0 is the upper camera, 1 the lower one (used in compact arrays)."""
+
+MIN_IMAGE_SIZE = 8
+"""Smallest accepted image width or height (pixels)."""
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    """Intrinsics and mounting of one camera (angles in radians, lengths in metres)."""
+
+    tilt: float
+    """Downward tilt of the optical axis relative to the head (rad)."""
+    hfov: float
+    """Horizontal opening angle (rad)."""
+    vfov: float
+    """Vertical opening angle (rad)."""
+    width: int = 320
+    """Image width (pixels)."""
+    height: int = 240
+    """Image height (pixels)."""
+    offset_x: float = 0.0
+    """Forward offset of the optical centre from the head pitch axis (m, head frame)."""
+    offset_z: float = 0.0
+    """Upward offset of the optical centre from the head pitch axis (m, head frame)."""
+
+    def __post_init__(self) -> None:
+        for name in ("width", "height"):
+            v = getattr(self, name)
+            if not isinstance(v, int | np.integer) or isinstance(v, bool) or v < MIN_IMAGE_SIZE:
+                raise ValueError(f"CameraSpec.{name} must be an integer >= {MIN_IMAGE_SIZE} pixels, got {v!r}")
+        for name in ("hfov", "vfov"):
+            v = getattr(self, name)
+            if not isinstance(v, int | float) or not 0.0 < v < math.pi * 0.9:
+                raise ValueError(f"CameraSpec.{name} must be an angle in (0, {math.pi * 0.9:.3f}) rad, got {v!r}")
+        for name in ("tilt", "offset_x", "offset_z"):
+            v = getattr(self, name)
+            if not isinstance(v, int | float) or not math.isfinite(v):
+                raise ValueError(f"CameraSpec.{name} must be a finite number, got {v!r}")
+
+    @property
+    def fx(self) -> float:
+        """Horizontal focal length (pixels)."""
+        return (self.width / 2.0) / math.tan(self.hfov / 2.0)
+
+    @property
+    def fy(self) -> float:
+        """Vertical focal length (pixels)."""
+        return (self.height / 2.0) / math.tan(self.vfov / 2.0)
+
+    @property
+    def cx(self) -> float:
+        """Principal point, horizontal (pixels)."""
+        return self.width / 2.0
+
+    @property
+    def cy(self) -> float:
+        """Principal point, vertical (pixels)."""
+        return self.height / 2.0
+
+
+NAO_UPPER = CameraSpec(
+    tilt=math.radians(1.2), hfov=math.radians(54.7), vfov=math.radians(42.5), offset_x=0.05871, offset_z=0.06364
+)
+"""NAO V6 upper camera (DESIGN.md reference facts; offsets from the NAO documentation)."""
+NAO_LOWER = CameraSpec(
+    tilt=math.radians(39.7), hfov=math.radians(54.7), vfov=math.radians(42.5), offset_x=0.05071, offset_z=0.01774
+)
+"""NAO V6 lower camera."""
+
+
+@dataclass(frozen=True)
+class CameraRig:
+    """The head: neck height plus the upper and lower camera."""
+
+    neck_height: float = 0.44
+    """Height of the head joints above the ground when standing (m)."""
+    upper: CameraSpec = NAO_UPPER
+    lower: CameraSpec = NAO_LOWER
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.neck_height, int | float) or not 0.05 <= self.neck_height <= 3.0:
+            raise ValueError(f"CameraRig.neck_height must be in [0.05, 3] m, got {self.neck_height!r}")
+
+    def spec(self, camera: CameraName | int) -> CameraSpec:
+        """The spec of ``camera`` ('upper'/'lower' or index 0/1)."""
+        if camera in ("upper", 0):
+            return self.upper
+        if camera in ("lower", 1):
+            return self.lower
+        raise ValueError(f"unknown camera {camera!r}; valid: {list(CAMERA_NAMES)}")
+
+    def with_resolution(self, width: int, height: int) -> CameraRig:
+        """The same rig with both cameras at ``width`` x ``height`` pixels."""
+        upper = replace(self.upper, width=width, height=height)
+        return replace(self, upper=upper, lower=replace(self.lower, width=width, height=height))
+
+    def camera_matrix(self, camera: CameraName | int, head_yaw: float, head_pitch: float) -> CameraMatrix:
+        """The camera's pose and intrinsics for these head angles (rad)."""
+        spec = self.spec(camera)
+        rot, pos = head_camera_pose(self.neck_height, spec.offset_x, spec.offset_z, spec.tilt, head_yaw, head_pitch)
+        return CameraMatrix(rot, pos, spec)
+
+
+def head_camera_pose(
+    neck_height: float, offset_x: float, offset_z: float, tilt: float, head_yaw: float, head_pitch: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Rotation (3x3, camera -> robot frame) and optical centre (3, robot frame, m)."""
+    rot = np.empty((3, 3))
+    pos = np.empty(3)
+    camera_pose_nb(neck_height, offset_x, offset_z, tilt, head_yaw, head_pitch, rot, pos)
+    return rot, pos
+
+
+@dataclass(frozen=True, eq=False)
+class CameraMatrix:
+    """A camera's pose in the robot frame and its intrinsics.
+
+    ``rotation`` maps camera-frame vectors to robot-frame vectors; ``position`` is the
+    optical centre in the robot frame (m). All methods accept many points at once.
+    """
+
+    rotation: NDArray[np.float64]
+    position: NDArray[np.float64]
+    spec: CameraSpec
+
+    @property
+    def height(self) -> float:
+        """Height of the optical centre above the ground (m)."""
+        return float(self.position[2])
+
+    def project(self, points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Pixels of robot-frame points (N x 3, m) and a mask of points in front of the camera.
+
+        Points behind the camera (or on its plane) get NaN pixels.
+        """
+        p = np.atleast_2d(np.asarray(points, dtype=np.float64))
+        if p.shape[-1] != 3:
+            raise ValueError(f"project expects points of shape (N, 3), got {p.shape}")
+        q = (p - self.position) @ self.rotation  # camera frame (R^T (p - c)) for each row
+        front = q[:, 0] > 1e-9
+        s = self.spec
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = np.where(front, s.cx - s.fx * q[:, 1] / q[:, 0], np.nan)
+            v = np.where(front, s.cy - s.fy * q[:, 2] / q[:, 0], np.nan)
+        return np.stack([u, v], axis=1), front
+
+    def in_image(self, uv: ArrayLike) -> NDArray[np.bool_]:
+        """True for pixels inside the image (NaN pixels are outside)."""
+        a = np.atleast_2d(np.asarray(uv, dtype=np.float64))
+        s = self.spec
+        with np.errstate(invalid="ignore"):
+            return (a[:, 0] >= 0) & (a[:, 0] < s.width) & (a[:, 1] >= 0) & (a[:, 1] < s.height)
+
+    def rays(self, uv: ArrayLike) -> NDArray[np.float64]:
+        """Robot-frame directions (N x 3, not normalised) of the viewing rays through pixels."""
+        a = np.atleast_2d(np.asarray(uv, dtype=np.float64))
+        s = self.spec
+        d = np.stack([np.ones(len(a)), (s.cx - a[:, 0]) / s.fx, (s.cy - a[:, 1]) / s.fy], axis=1)
+        return d @ self.rotation.T
+
+    def pixel_to_ground(self, uv: ArrayLike, height: float = 0.0) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Robot-frame (x, y) where the rays through pixels meet the plane z = ``height`` (m).
+
+        Returns the points (N x 2) and a validity mask: rays that never reach the plane in
+        front of the camera (at or above the horizon for ``height`` below the camera) are
+        invalid and get NaN.
+        """
+        d = self.rays(uv)
+        dz = d[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (height - self.position[2]) / dz
+        valid = np.isfinite(t) & (t > 0)
+        t = np.where(valid, t, np.nan)
+        xy = self.position[:2] + d[:, :2] * t[:, None]
+        return xy, valid
+
+    def horizon(self) -> tuple[float, float] | None:
+        """Rows ``v`` of the horizon at ``u = 0`` and ``u = width``, or ``None`` if it is vertical.
+
+        The horizon is the image line of directions parallel to the ground; ground points
+        always lie below it (larger ``v``) when the camera is upright.
+        """
+        r = self.rotation
+        s = self.spec
+        if abs(r[2, 2]) < 1e-12:
+            return None
+
+        def row(u: float) -> float:
+            return s.cy + s.fy * (r[2, 0] + r[2, 1] * (s.cx - u) / s.fx) / r[2, 2]
+
+        return row(0.0), row(float(s.width))
+
+    def as_row(self) -> NDArray[np.float64]:
+        """Compact form: 9 rotation entries (row-major), 3 position entries, fx, fy, cx, cy, width, height."""
+        s = self.spec
+        return np.concatenate([self.rotation.ravel(), self.position, [s.fx, s.fy, s.cx, s.cy, s.width, s.height]])
+
+
+CAMERA_ROW_SIZE = 18
+"""Length of :meth:`CameraMatrix.as_row`."""
+
+
+# -- compiled geometry (same conventions as above) ------------------------------------------
+@nb.njit(cache=True)
+def camera_pose_nb(
+    neck_height: float,
+    offset_x: float,
+    offset_z: float,
+    tilt: float,
+    head_yaw: float,
+    head_pitch: float,
+    rot: NDArray[np.float64],
+    pos: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """Fill ``rot`` (camera -> robot) and ``pos`` (optical centre, robot frame) in place."""
+    cy, sy = math.cos(head_yaw), math.sin(head_yaw)
+    cp, sp = math.cos(head_pitch), math.sin(head_pitch)
+    a = head_pitch + tilt
+    ca, sa = math.cos(a), math.sin(a)
+    # Rz(yaw) @ Ry(pitch + tilt); Ry(a) maps x to (cos a, 0, -sin a): positive looks down
+    rot[0, 0] = cy * ca
+    rot[0, 1] = -sy
+    rot[0, 2] = cy * sa
+    rot[1, 0] = sy * ca
+    rot[1, 1] = cy
+    rot[1, 2] = sy * sa
+    rot[2, 0] = -sa
+    rot[2, 1] = 0.0
+    rot[2, 2] = ca
+    # offset rotated by Rz(yaw) @ Ry(pitch)
+    hx = cp * offset_x + sp * offset_z
+    hz = -sp * offset_x + cp * offset_z
+    pos[0] = cy * hx
+    pos[1] = sy * hx
+    pos[2] = neck_height + hz
+
+
+@nb.njit(cache=True)
+def to_camera_nb(rot: NDArray[np.float64], pos: NDArray[np.float64], x: float, y: float, z: float) -> tuple:
+    """Camera-frame coordinates of robot-frame point (x, y, z)."""  # pragma: no cover - compiled
+    dx, dy, dz = x - pos[0], y - pos[1], z - pos[2]
+    return (
+        rot[0, 0] * dx + rot[1, 0] * dy + rot[2, 0] * dz,
+        rot[0, 1] * dx + rot[1, 1] * dy + rot[2, 1] * dz,
+        rot[0, 2] * dx + rot[1, 2] * dy + rot[2, 2] * dz,
+    )

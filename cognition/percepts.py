@@ -1,0 +1,438 @@
+"""Percepts: what the vision of one robot reports for one camera image.
+
+This is the output of vision (CMU paper, section II: vision features give robot-relative
+coordinates of detected objects) and the input of localization and the world model. The
+simulator synthesizes it directly (fast path); an image-based vision module produces the
+same type.
+
+Every percept is a row of a float table with the columns of :class:`Col`; a
+:class:`Percepts` holds one table per :class:`Kind` and wraps them in typed views
+(:class:`PerceptTable`) whose properties return numpy arrays, ready for vectorized filters.
+:meth:`Percepts.records` gives the same content as small dataclasses for reading and
+debugging.
+
+Measurement model (Darmstadt paper, section IV.B, eqs. 3-15): each measured position
+follows from two noisy viewing angles of the camera, ``alpha`` around the pitch axis
+(depression below the horizontal) and ``beta`` around the yaw axis (bearing). Each row
+carries the two angular sigmas and the 2 x 2 position covariance they imply (eq. 8 for the
+distance, eq. 12 sideways, rotated by the bearing, eqs. 13-15).
+
+Frames: positions ``x, y`` are in the **robot frame** (m, origin between the feet, +x
+forward, +y left); orientations are robot-frame angles (rad); ``u, v`` are pixels of the
+camera named in the camera matrix (see :mod:`cognition.camera`).
+
+======  ============  =====================================================================
+kind    subtype       geometry in the row
+======  ============  =====================================================================
+POST    PostSide      ``x, y`` base of the post; ``u, v`` base pixel; ``u2, v2`` top pixel;
+                      ``goal`` 0 own / 1 opponent when goals have different colours, else -1
+CROSS   0 L, 1 T, 2 X ``x, y`` junction; ``orientation`` as in :class:`cognition.field.LineCrossing`
+LINE    0             end points ``(x, y)`` and ``(x2, y2)``; pixels ``(u, v)``, ``(u2, v2)``;
+                      ``orientation`` direction in [0, pi); covariance at the point nearest
+                      the robot
+CIRCLE  0             ``x, y`` centre of the centre circle
+MARK    0             ``x, y`` penalty mark
+BALL    0             ``x, y`` ball on the ground (projection); ``radius_px`` image radius
+ROBOT   RobotTeam     ``x, y`` robot centre on the ground
+POLE    0             ``x, y`` corner pole base (KidSize field)
+======  ============  =====================================================================
+
+``truth`` is the ground-truth id of the landmark or object (index into the robot's own
+field map: ``Field.goal_posts``, ``crossings``, ``lines``, ``penalty_marks``,
+``corner_poles``; 0 for the circle and the ball; ``team * players + number - 1`` for
+robots, team 0 being the observer's team), -1 for a false positive. It exists for
+evaluation only: a brain must never read it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import IntEnum
+from typing import Any
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.camera import CAMERA_ROW_SIZE, CameraMatrix, CameraSpec
+
+
+class Kind(IntEnum):
+    """Percept kinds (table index)."""
+
+    POST = 0
+    CROSS = 1
+    LINE = 2
+    CIRCLE = 3
+    MARK = 4
+    BALL = 5
+    ROBOT = 6
+    POLE = 7
+
+
+N_KINDS = len(Kind)
+
+
+class PostSide(IntEnum):
+    """Which post of its goal a post percept is, as seen from the field facing that goal."""
+
+    UNKNOWN = 0
+    LEFT = 1
+    RIGHT = 2
+
+
+class RobotTeam(IntEnum):
+    """The jersey colour vision assigned to a robot percept."""
+
+    UNKNOWN = 0
+    OWN = 1
+    OPPONENT = 2
+
+
+class Col(IntEnum):
+    """Columns of a percept row (units in the module docstring)."""
+
+    X = 0
+    """Robot-frame x (m)."""
+    Y = 1
+    """Robot-frame y (m)."""
+    U = 2
+    """Image column (px)."""
+    V = 3
+    """Image row (px)."""
+    X2 = 4
+    """Second point x (m): line end; NaN otherwise."""
+    Y2 = 5
+    """Second point y (m)."""
+    U2 = 6
+    """Second pixel: line end or post top (px)."""
+    V2 = 7
+    ORIENTATION = 8
+    """Robot-frame orientation (rad) of crossings and lines; NaN otherwise."""
+    SUBTYPE = 9
+    """Post side, crossing kind (0 L, 1 T, 2 X) or robot team guess."""
+    VAR_XX = 10
+    """Position covariance (m^2), robot frame."""
+    VAR_XY = 11
+    VAR_YY = 12
+    SIGMA_ALPHA = 13
+    """Angular sigma around the pitch axis reported with the percept (rad)."""
+    SIGMA_BETA = 14
+    """Angular sigma around the yaw axis reported with the percept (rad)."""
+    RADIUS_PX = 15
+    """Ball image radius (px); NaN otherwise."""
+    TRUTH = 16
+    """Ground-truth id (evaluation only), -1 for false positives."""
+    GOAL = 17
+    """Post goal by colour: 0 own, 1 opponent, -1 unknown (same colours)."""
+
+
+N_COLS = len(Col)
+
+
+class PerceptTable:
+    """A typed, read-only view of the rows of one percept kind."""
+
+    __slots__ = ("kind", "rows")
+
+    def __init__(self, kind: Kind, rows: NDArray[np.float64]):
+        self.kind = kind
+        self.rows = rows
+        """The rows (n x :data:`N_COLS`)."""
+
+    def __len__(self) -> int:
+        return self.rows.shape[0]
+
+    def __bool__(self) -> bool:
+        return self.rows.shape[0] > 0
+
+    def __repr__(self) -> str:
+        return f"PerceptTable({self.kind.name}, n={len(self)})"
+
+    def column(self, col: Col) -> NDArray[np.float64]:
+        """One column as an array."""
+        return self.rows[:, col]
+
+    @property
+    def x(self) -> NDArray[np.float64]:
+        return self.rows[:, Col.X]
+
+    @property
+    def y(self) -> NDArray[np.float64]:
+        return self.rows[:, Col.Y]
+
+    @property
+    def xy(self) -> NDArray[np.float64]:
+        """Positions (n x 2, m, robot frame)."""
+        return self.rows[:, Col.X : Col.Y + 1]
+
+    @property
+    def xy2(self) -> NDArray[np.float64]:
+        """Second points (n x 2): line ends."""
+        return self.rows[:, Col.X2 : Col.Y2 + 1]
+
+    @property
+    def uv(self) -> NDArray[np.float64]:
+        """Pixels (n x 2)."""
+        return self.rows[:, Col.U : Col.V + 1]
+
+    @property
+    def uv2(self) -> NDArray[np.float64]:
+        """Second pixels (n x 2): line ends, post tops."""
+        return self.rows[:, Col.U2 : Col.V2 + 1]
+
+    @property
+    def orientation(self) -> NDArray[np.float64]:
+        return self.rows[:, Col.ORIENTATION]
+
+    @property
+    def subtype(self) -> NDArray[np.int64]:
+        return self.rows[:, Col.SUBTYPE].astype(np.int64)
+
+    @property
+    def distance(self) -> NDArray[np.float64]:
+        """Distance of the (first) point from the robot origin (m)."""
+        return np.hypot(self.rows[:, Col.X], self.rows[:, Col.Y])
+
+    @property
+    def bearing(self) -> NDArray[np.float64]:
+        """Direction of the (first) point from the robot origin (rad)."""
+        return np.arctan2(self.rows[:, Col.Y], self.rows[:, Col.X])
+
+    @property
+    def cov(self) -> NDArray[np.float64]:
+        """Position covariances (n x 2 x 2, m^2, robot frame)."""
+        r = self.rows
+        out = np.empty((len(r), 2, 2))
+        out[:, 0, 0] = r[:, Col.VAR_XX]
+        out[:, 0, 1] = out[:, 1, 0] = r[:, Col.VAR_XY]
+        out[:, 1, 1] = r[:, Col.VAR_YY]
+        return out
+
+    @property
+    def sigma_alpha(self) -> NDArray[np.float64]:
+        return self.rows[:, Col.SIGMA_ALPHA]
+
+    @property
+    def sigma_beta(self) -> NDArray[np.float64]:
+        return self.rows[:, Col.SIGMA_BETA]
+
+    @property
+    def radius_px(self) -> NDArray[np.float64]:
+        return self.rows[:, Col.RADIUS_PX]
+
+    @property
+    def goal(self) -> NDArray[np.int64]:
+        return self.rows[:, Col.GOAL].astype(np.int64)
+
+    @property
+    def truth(self) -> NDArray[np.int64]:
+        """Ground-truth ids; for evaluation only, never for a brain."""
+        return self.rows[:, Col.TRUTH].astype(np.int64)
+
+
+_EMPTY = np.zeros((0, N_COLS))
+_EMPTY.setflags(write=False)
+_NO_OFFSETS = np.zeros(N_KINDS + 1, dtype=np.int64)
+
+
+class Percepts:
+    """Everything vision reported for one image of one robot.
+
+    ``time`` is when the image was taken (s since match start); with latency it lies before
+    the sensor frame that delivers it. ``camera`` is the camera matrix of that image.
+    """
+
+    __slots__ = ("_camera", "_camera_row", "_offsets", "_rows", "_spec", "time")
+
+    def __init__(
+        self,
+        time: float,
+        rows: NDArray[np.float64],
+        offsets: NDArray[np.int64],
+        camera_row: NDArray[np.float64] | None,
+        spec: CameraSpec | None,
+    ):
+        self.time = time
+        self._rows = rows
+        self._offsets = offsets
+        self._camera_row = camera_row
+        self._spec = spec
+        self._camera: CameraMatrix | None = None
+
+    @classmethod
+    def empty(cls, time: float = 0.0) -> Percepts:
+        """No percepts (camera not usable: fallen, picked up, off the field)."""
+        return cls(time, _EMPTY, _NO_OFFSETS, None, None)
+
+    @property
+    def camera(self) -> CameraMatrix | None:
+        """The camera matrix of the image (``None`` when no image was taken)."""
+        if self._camera is None and self._camera_row is not None and self._spec is not None:
+            r = self._camera_row
+            if r.shape[0] != CAMERA_ROW_SIZE:
+                raise ValueError(f"camera row must have {CAMERA_ROW_SIZE} entries, got {r.shape[0]}")
+            self._camera = CameraMatrix(r[:9].reshape(3, 3).copy(), r[9:12].copy(), self._spec)
+        return self._camera
+
+    @property
+    def rows(self) -> NDArray[np.float64]:
+        """All rows, grouped by kind in :class:`Kind` order."""
+        return self._rows
+
+    def table(self, kind: Kind) -> PerceptTable:
+        """The rows of one kind."""
+        o = self._offsets
+        return PerceptTable(kind, self._rows[o[kind] : o[kind + 1]])
+
+    def count(self, kind: Kind) -> int:
+        """Number of percepts of one kind."""
+        return int(self._offsets[kind + 1] - self._offsets[kind])
+
+    def __len__(self) -> int:
+        return int(self._offsets[-1] - self._offsets[0])
+
+    @property
+    def posts(self) -> PerceptTable:
+        return self.table(Kind.POST)
+
+    @property
+    def crossings(self) -> PerceptTable:
+        return self.table(Kind.CROSS)
+
+    @property
+    def lines(self) -> PerceptTable:
+        return self.table(Kind.LINE)
+
+    @property
+    def circle(self) -> PerceptTable:
+        return self.table(Kind.CIRCLE)
+
+    @property
+    def penalty_marks(self) -> PerceptTable:
+        return self.table(Kind.MARK)
+
+    @property
+    def ball(self) -> PerceptTable:
+        """Ball percepts (usually 0 or 1; false positives can add more)."""
+        return self.table(Kind.BALL)
+
+    @property
+    def robots(self) -> PerceptTable:
+        return self.table(Kind.ROBOT)
+
+    @property
+    def poles(self) -> PerceptTable:
+        return self.table(Kind.POLE)
+
+    def ball_distance_from_size(self, ball_radius: float) -> NDArray[np.float64]:
+        """Distances (m, from the optical centre) implied by the ball percepts' image radii.
+
+        Uses the pinhole relation ``radius_px = f * r / sqrt(D^2 - r^2)`` with the mean focal
+        length; ``ball_radius`` is the true ball radius (m, from the field map).
+        """
+        cam = self.camera
+        rad = self.ball.radius_px
+        if cam is None or len(rad) == 0:
+            return np.zeros(0)
+        f = 0.5 * (cam.spec.fx + cam.spec.fy)
+        with np.errstate(divide="ignore"):
+            return ball_radius * np.sqrt(1.0 + (f / rad) ** 2)
+
+    def records(self) -> list[Any]:
+        """All percepts as dataclass records (slow; for reading, tests and debugging)."""
+        out: list[Any] = []
+        for kind in Kind:
+            for r in self.table(kind).rows:
+                out.append(_record(kind, r))
+        return out
+
+    def __repr__(self) -> str:
+        counts = ", ".join(f"{k.name.lower()}={self.count(k)}" for k in Kind if self.count(k))
+        return f"Percepts(t={self.time:.3f}, {counts or 'none'})"
+
+
+@dataclass(frozen=True)
+class PerceptRecord:
+    """One percept as a record (robot frame, metres, radians, pixels)."""
+
+    kind: Kind
+    x: float
+    y: float
+    u: float
+    v: float
+    subtype: int
+    orientation: float
+    x2: float
+    y2: float
+    u2: float
+    v2: float
+    cov: tuple[float, float, float]
+    """(var_xx, var_xy, var_yy) in m^2."""
+    sigma_alpha: float
+    sigma_beta: float
+    radius_px: float
+    goal: int
+    truth: int
+    """Ground-truth id (evaluation only)."""
+
+    @property
+    def distance(self) -> float:
+        return math.hypot(self.x, self.y)
+
+    @property
+    def bearing(self) -> float:
+        return math.atan2(self.y, self.x)
+
+
+def _record(kind: Kind, r: NDArray[np.float64]) -> PerceptRecord:
+    return PerceptRecord(
+        kind=kind,
+        x=float(r[Col.X]),
+        y=float(r[Col.Y]),
+        u=float(r[Col.U]),
+        v=float(r[Col.V]),
+        subtype=int(r[Col.SUBTYPE]),
+        orientation=float(r[Col.ORIENTATION]),
+        x2=float(r[Col.X2]),
+        y2=float(r[Col.Y2]),
+        u2=float(r[Col.U2]),
+        v2=float(r[Col.V2]),
+        cov=(float(r[Col.VAR_XX]), float(r[Col.VAR_XY]), float(r[Col.VAR_YY])),
+        sigma_alpha=float(r[Col.SIGMA_ALPHA]),
+        sigma_beta=float(r[Col.SIGMA_BETA]),
+        radius_px=float(r[Col.RADIUS_PX]),
+        goal=int(r[Col.GOAL]),
+        truth=int(r[Col.TRUTH]),
+    )
+
+
+def measurement_covariance(
+    x: float, y: float, camera_x: float, camera_y: float, height: float, sigma_alpha: float, sigma_beta: float
+) -> tuple[float, float, float]:
+    """Covariance (var_xx, var_xy, var_yy; m^2, robot frame) of a point measured via angles.
+
+    Darmstadt eqs. 8 and 12-15: distance sigma from the pitch-angle sigma, sideways sigma from
+    the yaw-angle sigma, rotated by the bearing. ``(x, y)`` is the measured point and
+    ``(camera_x, camera_y)`` the optical centre's ground position; ``height`` is the camera's
+    height above the point (m).
+    """
+    return covariance_nb(x, y, camera_x, camera_y, height, sigma_alpha, sigma_beta)
+
+
+@nb.njit(cache=True)
+def covariance_nb(
+    x: float, y: float, cx: float, cy: float, h: float, sa: float, sb: float
+) -> tuple[float, float, float]:  # pragma: no cover - compiled
+    """Compiled body of :func:`measurement_covariance`."""
+    dx, dy = x - cx, y - cy
+    d = math.hypot(dx, dy)
+    alpha = math.atan2(h, d)
+    # eq. 8 (the nearer side: tan(alpha + sigma) stays finite for points near the horizon)
+    sd = abs(h / math.tan(alpha) - h / math.tan(min(alpha + sa, 0.5 * math.pi - 1e-9)))
+    sy = math.tan(sb) * d  # eq. 12
+    b = math.atan2(dy, dx)
+    c, s = math.cos(b), math.sin(b)
+    a, e = sd * sd, sy * sy  # R_base = diag(a, e), eq. 13; rotated, eqs. 14-15
+    return (c * c * a + s * s * e, c * s * (a - e), s * s * a + c * c * e)
