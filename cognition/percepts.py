@@ -278,8 +278,9 @@ class Percepts:
 
     @property
     def rows(self) -> NDArray[np.float64]:
-        """All rows, grouped by kind in :class:`Kind` order."""
-        return self._rows
+        """All rows of this robot's image, grouped by kind in :class:`Kind` order."""
+        o = self._offsets
+        return self._rows[o[0] : o[-1]]
 
     def table(self, kind: Kind) -> PerceptTable:
         """The rows of one kind."""

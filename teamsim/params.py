@@ -50,12 +50,21 @@ def from_mapping(cls: type[T], data: Mapping[str, Any] | str, where: str = "", b
         hint = hints.get(name)
         if isinstance(hint, type) and dataclasses.is_dataclass(hint) and isinstance(value, Mapping | str):
             sub_where = f"{label}.{name}"
-            sub_base = getattr(base, name) if base is not None else None
+            sub_base = getattr(base, name) if base is not None else _default_of(fields[name])
             value = from_mapping(hint, value, sub_where, sub_base)
         kwargs[name] = value
     if base is not None:
         return dataclasses.replace(base, **kwargs)  # type: ignore[type-var]
     return cls(**kwargs)
+
+
+def _default_of(f: dataclasses.Field[Any]) -> Any:
+    """A field's default value (``None`` if it has none)."""
+    if f.default is not dataclasses.MISSING:
+        return f.default
+    if f.default_factory is not dataclasses.MISSING:
+        return f.default_factory()
+    return None
 
 
 def check_positive(owner: str, **values: float) -> None:

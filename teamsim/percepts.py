@@ -176,6 +176,7 @@ class PerceptSynthesizer:
         self._normals = np.zeros(0)
         self._uniforms = np.zeros(0)
         self._cursor = np.zeros(2, dtype=np.int64)
+        self._scratch = np.empty((0, N_COLS))
 
     def _refill(self, n_obs: int) -> None:
         need_n, need_u = draws_bound(n_obs, self._fidx)
@@ -194,13 +195,16 @@ class PerceptSynthesizer:
         points = int(self._fidx[G_CIRCLE] - self._fidx[G_POST])
         lines = int(self._fidx[G_LINE + 1] - self._fidx[G_LINE])
         max_rows = n * (16 + points + MAX_PIECES * lines + 3 * n)
-        out = np.empty((max_rows, N_COLS))
+        if self._scratch.shape[0] < max_rows:
+            self._scratch = np.empty((max_rows, N_COLS))
+        out = self._scratch
         offsets = np.empty((n, N_KINDS + 1), dtype=np.int64)
         cam_rows = np.empty((n, 18))
-        synthesize_nb(
+        used = synthesize_nb(
             scene.observers, scene.occluders, scene.ball, self._cams, self._fmap, self._fidx, self._fconst,
             self._prm, self._normals, self._uniforms, self._cursor, out, offsets, cam_rows,
         )  # fmt: skip
+        out = out[:used].copy()  # compact: frames kept by a brain hold only their own rows
         result = []
         obs = scene.observers
         specs = self._specs
