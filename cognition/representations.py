@@ -17,7 +17,7 @@ type                   content
 OdometryReading        motion since the previous frame in the previous robot frame
 HeadState              head yaw/pitch (rad) and their rates (rad/s)
 TeamMessageIn          a teammate's message as received (bytes, sender, send time)
-SensorFrame            everything one robot senses in one cognition frame
+SensorFrame            everything one robot senses in one cognition frame (incl. percepts)
 WalkRequest            forward/sideways (m/s) and turn (rad/s) in the robot frame
 KickRequest            kick direction (rad, robot frame) and strength in [0, 1]
 HeadRequest            target yaw/pitch (rad), max speed (rad/s), camera to read
@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from cognition.gamestate import TEAM_MESSAGE_MAX_BYTES, GameControlData
+from cognition.percepts import Percepts
 
 
 def _check_finite(owner: str, **values: float) -> None:
@@ -87,8 +88,9 @@ class TeamMessageIn:
 class SensorFrame:
     """Everything one robot senses in one cognition frame.
 
-    ``percepts`` and ``image`` are filled by the camera model of later stages; the
-    foundation leaves both ``None``.
+    ``percepts`` holds what vision reported for the latest image (synthesized by the
+    simulator's camera model, taken ``latency`` seconds before ``time``); ``image`` is the
+    rendered camera image of the image observation path (not provided yet).
     """
 
     time: float
@@ -109,8 +111,8 @@ class SensorFrame:
     """The robot lies on the ground (inertial sensors) and is getting up."""
     messages: tuple[TeamMessageIn, ...] = ()
     """Team messages received since the previous frame."""
-    percepts: object | None = None
-    """Synthesized percepts (fast observation path), when the match provides them."""
+    percepts: Percepts | None = None
+    """Percepts of the latest camera image (robot frame), or ``None`` without a camera model."""
     image: object | None = None
     """Rendered camera image (image observation path), when the match provides it."""
 

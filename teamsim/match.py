@@ -391,31 +391,29 @@ class Match:
     def scene(self) -> Scene:
         """The world as the camera model sees it now (reused buffer, world frame)."""
         sc = self._scene
-        obs, occ = sc.observers, sc.occluders
         p = self.config.percepts
         radius = self.config.physics.robot.radius
-        for i, robot in enumerate(self.world.robots):
+        signs = (self.referee.sign(0), self.referee.sign(1))
+        obs, occ = [], []
+        for robot in self.world.robots:
             pos = robot.body.position
+            x, y = pos.x, pos.y
             h = robot.head
             v = robot.velocity
             on = robot.in_space
-            fallen = robot.is_fallen()
-            o = obs[i]
-            o[0], o[1], o[2] = pos.x, pos.y, robot.body.angle
-            o[3], o[4], o[5], o[6] = h.yaw, h.pitch, h.yaw_rate, h.pitch_rate
-            o[7] = 0.0 if h.camera == "upper" else 1.0
-            o[8] = 1.0 if (v[0] != 0.0 or v[1] != 0.0 or v[2] != 0.0) else 0.0
-            o[9] = 1.0 if (on and not fallen and not robot.picked_up) else 0.0
-            o[10] = self.referee.sign(robot.team)
-            o[11] = robot.team
-            c = occ[i]
-            c[0], c[1], c[2] = pos.x, pos.y, radius
-            c[3] = p.fallen_height if fallen else p.robot_height
-            c[4] = 1.0 if on else 0.0
+            fallen = robot.fallen_until >= 0
+            walking = v[0] != 0.0 or v[1] != 0.0 or v[2] != 0.0
+            sees = on and not fallen and not robot.picked_up
+            obs.append(
+                (x, y, robot.body.angle, h.yaw, h.pitch, h.yaw_rate, h.pitch_rate, 0.0 if h.camera == "upper" else 1.0,
+                 float(walking), float(sees), signs[robot.team], robot.team)
+            )  # fmt: skip
+            occ.append((x, y, radius, p.fallen_height if fallen else p.robot_height, float(on)))
+        sc.observers[:] = obs
+        sc.occluders[:] = occ
         b = self.world.ball
-        sc.ball[0], sc.ball[1] = b.position.x, b.position.y
-        sc.ball[2], sc.ball[3] = b.velocity.x, b.velocity.y
-        sc.ball[4] = 1.0
+        bp, bv = b.position, b.velocity
+        sc.ball[:] = (bp.x, bp.y, bv.x, bv.y, 1.0)
         return sc
 
     def capture(self) -> list[Percepts]:
