@@ -38,22 +38,9 @@ from numpy.typing import NDArray
 from cognition.camera import CAMERA_NAMES, CameraRig
 from cognition.field import Field
 from cognition.percepts import N_COLS, N_KINDS, Percepts
-from teamsim.percept_kernel import (
-    G_CIRCLE,
-    G_CROSS,
-    G_LINE,
-    G_MARK,
-    G_POLE,
-    G_POST,
-    MAX_PIECES,
-    N_CAM_COLS,
-    N_CONSTS,
-    N_FMAP_COLS,
-    N_OBS_COLS,
-    draws_bound,
-    synthesize_nb,
-)
+from teamsim.percept_kernel import draws_bound, synthesize_nb
 from teamsim.percept_params import PerceptParams
+from teamsim.percept_parts import MAX_PIECES, N_CAM_COLS, N_CONSTS, N_FMAP_COLS, N_OBS_COLS, G
 
 CIRCLE_SAMPLES = 32
 """Points on the centre circle used to decide how much of it is visible."""
@@ -192,8 +179,8 @@ class PerceptSynthesizer:
         n = scene.observers.shape[0]
         self._fconst[10] = scene.players_per_team
         self._refill(n)
-        points = int(self._fidx[G_CIRCLE] - self._fidx[G_POST])
-        lines = int(self._fidx[G_LINE + 1] - self._fidx[G_LINE])
+        points = int(self._fidx[G.CIRCLE] - self._fidx[G.POST])
+        lines = int(self._fidx[G.LINE + 1] - self._fidx[G.LINE])
         max_rows = n * (16 + points + MAX_PIECES * lines + 3 * n)
         if self._scratch.shape[0] < max_rows:
             self._scratch = np.empty((max_rows, N_COLS))
@@ -242,11 +229,11 @@ def _field_map(field: Field) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
         partner = next(j for j, o in enumerate(field.goal_posts) if o.goal == p.goal and j != i)
         goal_world = 0.0 if p.x < 0 else 1.0
         rows.append([p.x, p.y, 0.0, goal_world, _mirror_index(posts, i), partner])
-    fidx[G_CROSS] = len(rows)
+    fidx[G.CROSS] = len(rows)
     cr = field.crossing_array
     for i in range(len(cr)):
         rows.append([cr[i, 0], cr[i, 1], cr[i, 2], float(field.crossing_kinds[i]), _mirror_index(cr[:, :2], i), -1])
-    fidx[G_LINE] = len(rows)
+    fidx[G.LINE] = len(rows)
     la = field.line_array
     for i in range(len(la)):
         a, b = la[i, :2], la[i, 2:]
@@ -258,19 +245,19 @@ def _field_map(field: Field) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
         if not match:
             raise ValueError(f"field is not point-symmetric at line {i}")
         rows.append([a[0], a[1], b[0], b[1], match[0], -1])
-    fidx[G_MARK] = len(rows)
+    fidx[G.MARK] = len(rows)
     marks = np.array([(m.x, m.y) for m in field.penalty_marks]).reshape(-1, 2)
     for i in range(len(marks)):
         rows.append([marks[i, 0], marks[i, 1], 0.0, 0.0, _mirror_index(marks, i), -1])
-    fidx[G_POLE] = len(rows)
+    fidx[G.POLE] = len(rows)
     poles = np.array([(p.x, p.y) for p in field.corner_poles]).reshape(-1, 2)
     for i in range(len(poles)):
         rows.append([poles[i, 0], poles[i, 1], 0.0, 0.0, _mirror_index(poles, i), -1])
-    fidx[G_CIRCLE] = len(rows)
+    fidx[G.CIRCLE] = len(rows)
     c = field.centre_circle
     for k in range(CIRCLE_SAMPLES):
         a = 2.0 * math.pi * (k + 0.5) / CIRCLE_SAMPLES
         rows.append([c.x + c.radius * math.cos(a), c.y + c.radius * math.sin(a), 0.0, 0.0, -1, -1])
-    fidx[G_CIRCLE + 1] = len(rows)
+    fidx[G.CIRCLE + 1] = len(rows)
     fmap = np.asarray(rows, dtype=np.float64).reshape(-1, N_FMAP_COLS)
     return fmap, fidx
