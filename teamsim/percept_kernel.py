@@ -44,13 +44,13 @@ from teamsim.percept_parts import (
     line_direction,
     look,
     measure,
-    occlusion,
     pixel,
     point_segment_distance,
     random_ground,
     rate,
     set_cov,
     shadow_interval,
+    visible,
 )
 
 
@@ -84,11 +84,7 @@ def synthesize_nb(
     rot = np.empty((3, 3))
     pos = np.empty(3)
     m = np.empty((3, 3))
-    od = np.empty(n_obs)
-    ob = np.empty(n_obs)
-    ow = np.empty(n_obs)
-    oh = np.empty(n_obs)
-    oflag = np.zeros(n_obs, dtype=np.bool_)
+    occg = np.zeros((n_obs, 5))  # per other robot, from the optical centre: distance, bearing, half-width, height, flag
     seen = np.empty(n_obs, dtype=np.int64)
     plo = np.empty(MAX_PIECES)
     phi = np.empty(MAX_PIECES)
@@ -161,28 +157,22 @@ def synthesize_nb(
         ctx[CTX.FX], ctx[CTX.FY], ctx[CTX.PPX], ctx[CTX.PPY], ctx[CTX.W], ctx[CTX.H] = fx, fy, cx, cy, W, H
         # occluders as seen from the optical centre
         for j in range(n_obs):
-            oflag[j] = False
+            occg[j, 4] = 0.0
             if j == r or occ[j, OC.PRESENT] < 0.5:
                 continue
             ox, oy = occ[j, OC.X] - Cx, occ[j, OC.Y] - Cy
             d = math.hypot(ox, oy)
             if d <= occ[j, OC.R] + 1e-3:
                 continue
-            od[j] = d
-            ob[j] = math.atan2(oy, ox)
-            ow[j] = math.asin(occ[j, OC.R] / d)
-            oh[j] = occ[j, OC.H]
-            oflag[j] = True
+            occg[j, 0], occg[j, 1] = d, math.atan2(oy, ox)
+            occg[j, 2], occg[j, 3], occg[j, 4] = math.asin(occ[j, OC.R] / d), occ[j, OC.H], 1.0
 
         # ---- posts ------------------------------------------------------------------------
         offsets[r, Kind.POST] = row
         for i in range(fidx[G.POST], fidx[G.POST + 1]):
             px, py = fmap[i, F.X], fmap[i, F.Y]
-            ok, u, v, d, b = look(m, ctx, px, py, 0.0)
-            if not ok or d > prm[P.DET_POST + 2]:
-                continue
-            frac = occlusion(d, b, math.asin(min(1.0, post_r / d)), 0.0, hc, od, ob, ow, oh, oflag, -1)
-            if frac > max_occ:
+            ok, u, v, d, frac = visible(m, ctx, occg, px, py, 0.0, post_r, prm[P.DET_POST + 2], max_occ, -1)
+            if not ok:
                 continue
             p = rate(prm, P.DET_POST, d) * motion * (1.0 - frac)
             if uniforms[cursor[1]] >= p:
@@ -224,7 +214,7 @@ def synthesize_nb(
             t_exit = exit_distance(Cx, Cy, ux, uy, fconst[FC.HX], fconst[FC.HY])
             dist = t_exit + 0.5 + 2.5 * uniforms[cursor[1] + 2]
             px, py = Cx + dist * ux, Cy + dist * uy
-            ok, u, v, d, b = look(m, ctx, px, py, 0.0)
+            ok, u, v, _, _ = look(m, ctx, px, py, 0.0)
             if ok:
                 ok_m, mx, my = measure(px, py, 0.0, ctx, normals, cursor)
                 if ok_m:
@@ -238,10 +228,8 @@ def synthesize_nb(
         offsets[r, Kind.CROSS] = row
         for i in range(fidx[G.CROSS], fidx[G.CROSS + 1]):
             px, py = fmap[i, F.X], fmap[i, F.Y]
-            ok, u, v, d, b = look(m, ctx, px, py, 0.0)
-            if not ok or d > prm[P.DET_CROSS + 2]:
-                continue
-            if occlusion(d, b, 0.0, 0.0, hc, od, ob, ow, oh, oflag, -1) > 0.0:
+            ok, u, v, d, _ = visible(m, ctx, occg, px, py, 0.0, 0.0, prm[P.DET_CROSS + 2], max_occ, -1)
+            if not ok:
                 continue
             p = rate(prm, P.DET_CROSS, d) * motion
             draw = uniforms[cursor[1]]
@@ -304,9 +292,9 @@ def synthesize_nb(
             npieces = 1
             plo[0], phi[0] = lo, hi
             for j in range(n_obs):
-                if not oflag[j] or npieces == 0:
+                if occg[j, 4] < 0.5 or npieces == 0:
                     continue
-                olo, ohi = shadow_interval(ax, ay, bx, by, od[j], ob[j], ow[j], oh[j], hc)
+                olo, ohi = shadow_interval(ax, ay, bx, by, occg[j, 0], occg[j, 1], occg[j, 2], occg[j, 3], hc)
                 if ohi <= olo:
                     continue
                 nn = 0
@@ -359,15 +347,14 @@ def synthesize_nb(
         offsets[r, Kind.CIRCLE] = row
         n_circle = fidx[G.CIRCLE + 1] - fidx[G.CIRCLE]
         if n_circle > 0:
-            visible = 0
+            n_visible = 0
             circ_max = prm[P.DET_CIRCLE + 2]
             for i in range(fidx[G.CIRCLE], fidx[G.CIRCLE + 1]):
-                ok, u, v, d, b = look(m, ctx, fmap[i, F.X], fmap[i, F.Y], 0.0)
-                if ok and d <= circ_max and occlusion(d, b, 0.0, 0.0, hc, od, ob, ow, oh, oflag, -1) <= 0.0:
-                    visible += 1
+                if visible(m, ctx, occg, fmap[i, F.X], fmap[i, F.Y], 0.0, 0.0, circ_max, max_occ, -1)[0]:
+                    n_visible += 1
             draw = uniforms[cursor[1]]
             cursor[1] += 1
-            if visible > 0 and visible >= prm[P.CIRCLE_MIN] * n_circle:
+            if n_visible > 0 and n_visible >= prm[P.CIRCLE_MIN] * n_circle:
                 ccx, ccy = fconst[FC.CIRCLE_X], fconst[FC.CIRCLE_Y]
                 d = math.hypot(ccx - Cx, ccy - Cy)
                 if draw < rate(prm, P.DET_CIRCLE, d) * motion:
@@ -381,10 +368,8 @@ def synthesize_nb(
         offsets[r, Kind.MARK] = row
         for i in range(fidx[G.MARK], fidx[G.MARK + 1]):
             px, py = fmap[i, F.X], fmap[i, F.Y]
-            ok, u, v, d, b = look(m, ctx, px, py, 0.0)
-            if not ok or d > prm[P.DET_MARK + 2]:
-                continue
-            if occlusion(d, b, 0.0, 0.0, hc, od, ob, ow, oh, oflag, -1) > 0.0:
+            ok, u, v, d, _ = visible(m, ctx, occg, px, py, 0.0, 0.0, prm[P.DET_MARK + 2], max_occ, -1)
+            if not ok:
                 continue
             draw = uniforms[cursor[1]]
             cursor[1] += 1
@@ -407,14 +392,11 @@ def synthesize_nb(
         # ---- robots (decided before the ball: false balls appear at seen robots' feet) ------
         n_seen = 0
         for j in range(n_obs):
-            if not oflag[j]:
+            if occg[j, 4] < 0.5:
                 continue
             px, py = occ[j, OC.X], occ[j, OC.Y]
-            ok, u, v, d, b = look(m, ctx, px, py, 0.0)
-            if not ok or d > prm[P.DET_ROBOT + 2]:
-                continue
-            frac = occlusion(d, b, ow[j], 0.0, hc, od, ob, ow, oh, oflag, j)
-            if frac > max_occ:
+            ok, u, v, d, frac = visible(m, ctx, occg, px, py, 0.0, occ[j, OC.R], prm[P.DET_ROBOT + 2], max_occ, j)
+            if not ok:
                 continue
             draw = uniforms[cursor[1]]
             cursor[1] += 1
@@ -426,16 +408,14 @@ def synthesize_nb(
         offsets[r, Kind.BALL] = row
         if ball[4] > 0.5:
             px, py = ball[0], ball[1]
-            ok, u, v, d, b = look(m, ctx, px, py, ball_r)
-            if ok and d <= prm[P.DET_BALL + 2]:
-                frac = occlusion(d, b, math.asin(min(1.0, ball_r / d)), ball_r, hc, od, ob, ow, oh, oflag, -1)
-                if frac <= max_occ:
-                    speed = math.hypot(ball[2], ball[3])
-                    p = rate(prm, P.DET_BALL, d) * motion * (1.0 - frac) / (1.0 + prm[P.BALL_DET] * speed)
-                    draw = uniforms[cursor[1]]
-                    cursor[1] += 1
-                    if draw < p:
-                        row = ball_row(out, row, px, py, u, v, 0.0, ctx, ball_r, prm[P.RAD_SIGMA], normals, cursor)
+            ok, u, v, d, frac = visible(m, ctx, occg, px, py, ball_r, ball_r, prm[P.DET_BALL + 2], max_occ, -1)
+            if ok:
+                speed = math.hypot(ball[2], ball[3])
+                p = rate(prm, P.DET_BALL, d) * motion * (1.0 - frac) / (1.0 + prm[P.BALL_DET] * speed)
+                draw = uniforms[cursor[1]]
+                cursor[1] += 1
+                if draw < p:
+                    row = ball_row(out, row, px, py, u, v, 0.0, ctx, ball_r, prm[P.RAD_SIGMA], normals, cursor)
         for s in range(n_seen):
             j = seen[s]
             draw = uniforms[cursor[1]]
@@ -443,15 +423,15 @@ def synthesize_nb(
             if draw >= prm[P.FEET_BALL]:
                 continue
             gap = occ[j, OC.R] + ball_r
-            px = occ[j, OC.X] - gap * math.cos(ob[j])
-            py = occ[j, OC.Y] - gap * math.sin(ob[j])
-            ok, u, v, d, b = look(m, ctx, px, py, ball_r)
+            px = occ[j, OC.X] - gap * math.cos(occg[j, 1])
+            py = occ[j, OC.Y] - gap * math.sin(occg[j, 1])
+            ok, u, v, _, _ = look(m, ctx, px, py, ball_r)
             if ok:
                 row = ball_row(out, row, px, py, u, v, -1.0, ctx, ball_r, prm[P.RAD_SIGMA], normals, cursor)
         if uniforms[cursor[1]] < prm[P.FALSE_BALL]:
             ok, wx, wy = random_ground(rot, pos, X, Y, ct, st, W, H, fx, fy, cx, cy, uniforms, cursor)
             if ok and math.hypot(wx - Cx, wy - Cy) <= prm[P.DET_BALL + 2]:
-                ok, u, v, d, b = look(m, ctx, wx, wy, ball_r)
+                ok, u, v, _, _ = look(m, ctx, wx, wy, ball_r)
                 if ok:
                     row = ball_row(out, row, wx, wy, u, v, -1.0, ctx, ball_r, prm[P.RAD_SIGMA], normals, cursor)
         cursor[1] += 3
@@ -477,7 +457,7 @@ def synthesize_nb(
             number0 = j - int(obs[j, OBS.TEAM]) * npt
             truth = float((0 if same else 1) * npt + number0)
             emit(out, row, mx, my, u, v, sub, ctx, hc, truth)
-            u2, v2 = pixel(m, ctx, px, py, oh[j])
+            u2, v2 = pixel(m, ctx, px, py, occg[j, 3])
             out[row, 6], out[row, 7] = u2, v2
             row += 1
 
@@ -485,11 +465,8 @@ def synthesize_nb(
         offsets[r, Kind.POLE] = row
         for i in range(fidx[G.POLE], fidx[G.POLE + 1]):
             px, py = fmap[i, F.X], fmap[i, F.Y]
-            ok, u, v, d, b = look(m, ctx, px, py, 0.0)
-            if not ok or d > prm[P.DET_POLE + 2]:
-                continue
-            frac = occlusion(d, b, math.asin(min(1.0, pole_r / d)), 0.0, hc, od, ob, ow, oh, oflag, -1)
-            if frac > max_occ:
+            ok, u, v, d, frac = visible(m, ctx, occg, px, py, 0.0, pole_r, prm[P.DET_POLE + 2], max_occ, -1)
+            if not ok:
                 continue
             draw = uniforms[cursor[1]]
             cursor[1] += 1

@@ -290,27 +290,47 @@ def ball_row(out, row, px, py, u, v, truth, ctx, ball_r, rad_sigma, normals, cur
 
 
 @nb.njit(cache=True)
-def occlusion(d, b, w, z, hc, od, ob, ow, oh, oflag, skip):  # pragma: no cover - compiled
+def occlusion(d, b, w, z, hc, occg, skip):  # pragma: no cover - compiled
     """Hidden fraction of an object at distance d, bearing b, angular half-width w, height z.
 
-    With ``w == 0`` the object is a point: 1.0 if hidden, else 0.0.
+    ``occg`` rows are the other robots seen from the optical centre (distance, bearing,
+    angular half-width, height, flag). With ``w == 0`` the object is a point: 1.0 if hidden.
     """
     frac = 0.0
-    for j in range(od.shape[0]):
-        if not oflag[j] or j == skip or od[j] >= d:
+    for j in range(occg.shape[0]):
+        if occg[j, 4] < 0.5 or j == skip or occg[j, 0] >= d:
             continue
-        if hc - (hc - z) * od[j] / d >= oh[j]:
+        if hc - (hc - z) * occg[j, 0] / d >= occg[j, 3]:
             continue  # the line of sight passes above this robot
-        rel = wrap(ob[j] - b)
+        rel = wrap(occg[j, 1] - b)
+        ow = occg[j, 2]
         if w <= 0.0:
-            if abs(rel) < ow[j]:
+            if abs(rel) < ow:
                 return 1.0
             continue
-        lo = max(-w, rel - ow[j])
-        hi = min(w, rel + ow[j])
+        lo = max(-w, rel - ow)
+        hi = min(w, rel + ow)
         if hi > lo:
             frac += (hi - lo) / (2.0 * w)
     return min(frac, 1.0)
+
+
+@nb.njit(cache=True)
+def visible(m, ctx, occg, px, py, pz, radius, max_range, max_occ, skip):  # pragma: no cover - compiled
+    """(seen, u, v, ground distance, hidden fraction) of an object of ``radius`` at world (px, py, pz).
+
+    Seen means in front, inside the image, within ``max_range`` and hidden at most ``max_occ``
+    (a point, ``radius == 0``, must not be hidden at all). ``skip`` is the object's own robot
+    index (or -1).
+    """
+    ok, u, v, d, b = look(m, ctx, px, py, pz)
+    if not ok or d > max_range:
+        return False, u, v, d, 1.0
+    w = math.asin(min(1.0, radius / d)) if radius > 0.0 else 0.0
+    frac = occlusion(d, b, w, pz, ctx[CTX.HC], occg, skip)
+    if frac > max_occ or (radius <= 0.0 and frac > 0.0):
+        return False, u, v, d, frac
+    return True, u, v, d, frac
 
 
 @nb.njit(cache=True)
