@@ -74,11 +74,11 @@ class CameraSpec:
                 raise ValueError(f"CameraSpec.{name} must be an integer >= {MIN_IMAGE_SIZE} pixels, got {v!r}")
         for name in ("hfov", "vfov"):
             v = getattr(self, name)
-            if not isinstance(v, int | float) or not 0.0 < v < math.pi * 0.9:
+            if isinstance(v, bool) or not isinstance(v, int | float | np.floating) or not 0.0 < v < math.pi * 0.9:
                 raise ValueError(f"CameraSpec.{name} must be an angle in (0, {math.pi * 0.9:.3f}) rad, got {v!r}")
         for name in ("tilt", "offset_x", "offset_z"):
             v = getattr(self, name)
-            if not isinstance(v, int | float) or not math.isfinite(v):
+            if isinstance(v, bool) or not isinstance(v, int | float | np.floating) or not math.isfinite(v):
                 raise ValueError(f"CameraSpec.{name} must be a finite number, got {v!r}")
 
     @property

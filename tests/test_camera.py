@@ -202,6 +202,8 @@ def test_focal_lengths() -> None:
         ({"hfov": 0.0}, "hfov"),
         ({"hfov": -0.5}, "hfov"),
         ({"hfov": 0.9 * math.pi}, "hfov"),
+        ({"hfov": True}, "hfov"),
+        ({"tilt": False}, "tilt"),
         ({"vfov": 3.0}, "vfov"),
         ({"tilt": math.nan}, "tilt"),
         ({"offset_x": math.inf}, "offset_x"),
