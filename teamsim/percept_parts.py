@@ -4,7 +4,7 @@
 index constants of its inputs (observers, occluders, cameras, field map, parameter vector,
 per-observer context) and the geometry helpers it calls: projection of world points
 (:func:`look`, :func:`pixel`), the Darmstadt measurement through noisy viewing angles
-(:func:`measure`, paper section IV.B) and its covariance (:func:`point_covariance`, eqs. 8 and 12-15),
+(:func:`measure`, paper section IV.B) and its covariance (:func:`cognition.percepts.covariance_nb`, eqs. 8 and 12-15),
 occlusion by robots (:func:`occlusion`, :func:`shadow_interval`) and clipping (:func:`clip`).
 World frame (m, rad) throughout; rows are robot-frame measurements.
 """
@@ -18,7 +18,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.percepts import N_COLS, Col
+from cognition.percepts import N_COLS, Col, covariance_nb
 from teamsim.percept_params import VECTOR_FIELDS
 
 
@@ -181,7 +181,7 @@ def rate(prm: NDArray[np.float64], base: int, d: float) -> float:  # pragma: no 
 def emit(out, row, x, y, u, v, sub, ctx, h, truth):  # pragma: no cover - compiled
     """Write a point row measured at robot-frame (x, y), ``h`` below the camera (covariance there)."""
     sa, sb = ctx[CTX.SAR], ctx[CTX.SBR]
-    cov = point_covariance(x, y, ctx[CTX.PCX], ctx[CTX.PCY], h, sa, sb)
+    cov = covariance_nb(x, y, ctx[CTX.PCX], ctx[CTX.PCY], h, sa, sb)
     for c in range(N_COLS):
         out[row, c] = np.nan
     out[row, 0] = x
@@ -201,22 +201,8 @@ def emit(out, row, x, y, u, v, sub, ctx, h, truth):  # pragma: no cover - compil
 @nb.njit(cache=True)
 def set_cov(out, row, x, y, ctx, h):  # pragma: no cover - compiled
     """Overwrite a row's covariance with the one at robot-frame (x, y)."""
-    cov = point_covariance(x, y, ctx[CTX.PCX], ctx[CTX.PCY], h, ctx[CTX.SAR], ctx[CTX.SBR])
+    cov = covariance_nb(x, y, ctx[CTX.PCX], ctx[CTX.PCY], h, ctx[CTX.SAR], ctx[CTX.SBR])
     out[row, Col.VAR_XX], out[row, Col.VAR_XY], out[row, Col.VAR_YY] = cov[0], cov[1], cov[2]
-
-
-@nb.njit(cache=True)
-def point_covariance(x, y, cx, cy, h, sa, sb):  # pragma: no cover - compiled
-    """Darmstadt eqs. 8, 12-15 for a point measured at robot-frame (x, y)."""
-    dx, dy = x - cx, y - cy
-    d = math.hypot(dx, dy)
-    alpha = math.atan2(h, d)
-    sd = abs(h / math.tan(alpha) - h / math.tan(min(alpha + sa, 0.5 * math.pi - 1e-9)))
-    sy = math.tan(sb) * d
-    b = math.atan2(dy, dx)
-    c, s = math.cos(b), math.sin(b)
-    a, e = sd * sd, sy * sy
-    return (c * c * a + s * s * e, c * s * (a - e), s * s * a + c * c * e)
 
 
 @nb.njit(cache=True)
