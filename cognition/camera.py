@@ -244,6 +244,34 @@ CAMERA_ROW_SIZE = 18
 """Length of :meth:`CameraMatrix.as_row`."""
 
 
+@dataclass(frozen=True, eq=False)
+class CameraImage:
+    """One camera image as a robot receives it (the image observation path).
+
+    ``camera`` is the camera's pose in the robot frame when the image was exposed, computed
+    from the head joint angles of that moment (``head_yaw``, ``head_pitch``); with it a
+    vision module maps pixels to the ground (:meth:`CameraMatrix.pixel_to_ground`).
+    """
+
+    time: float
+    """When the image was exposed (s since match start)."""
+    pixels: NDArray[np.uint8]
+    """The image, height x width x 3, RGB, row 0 at the top."""
+    camera: CameraMatrix
+    """Pose (robot frame) and intrinsics of the camera at exposure."""
+    camera_name: CameraName = "upper"
+    """Which camera took it."""
+    head_yaw: float = 0.0
+    """Head yaw at exposure (rad, positive to the left)."""
+    head_pitch: float = 0.0
+    """Head pitch at exposure (rad, positive looks down)."""
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(height, width) in pixels."""
+        return int(self.pixels.shape[0]), int(self.pixels.shape[1])
+
+
 # -- compiled geometry (same conventions as above) ------------------------------------------
 @nb.njit(cache=True)
 def camera_pose_nb(

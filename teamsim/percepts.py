@@ -72,6 +72,8 @@ class SceneRobot:
     on_field: bool = True
     """The body is on the field (can hide things and be seen)."""
     fallen: bool = False
+    turn_rate: float = 0.0
+    """Body turn rate (rad/s, counter-clockwise); only image effects (motion blur) use it."""
     team_sign: float = 1.0
     """+1 if the robot's team frame equals the world frame, -1 if mirrored."""
 
@@ -81,10 +83,11 @@ class Scene:
 
     ``observers`` (N x 12): x, y, theta, head yaw, pitch, yaw rate, pitch rate, camera index,
     walking, sees, team sign, team. ``occluders`` (N x 5): x, y, radius, height, on field.
-    ``ball``: x, y, vx, vy, present. Robot ``i`` is ``team * players_per_team + number - 1``.
+    ``ball``: x, y, vx, vy, present. ``turn_rates`` (N): body turn rates (rad/s), used only by
+    image effects. Robot ``i`` is ``team * players_per_team + number - 1``.
     """
 
-    __slots__ = ("ball", "observers", "occluders", "players_per_team")
+    __slots__ = ("ball", "observers", "occluders", "players_per_team", "turn_rates")
 
     def __init__(self, players_per_team: int):
         n = 2 * players_per_team
@@ -92,6 +95,7 @@ class Scene:
         self.observers = np.zeros((n, N_OBS_COLS))
         self.occluders = np.zeros((n, 5))
         self.ball = np.zeros(5)
+        self.turn_rates = np.zeros(n)
 
     @classmethod
     def build(
@@ -117,6 +121,7 @@ class Scene:
             )  # fmt: skip
             height = p.fallen_height if rb.fallen else p.robot_height
             s.occluders[i] = (rb.x, rb.y, robot_radius, height, float(rb.on_field))
+            s.turn_rates[i] = rb.turn_rate
         for t in (0, 1):
             for k in range(players_per_team):
                 s.observers[t * players_per_team + k, 11] = t
