@@ -32,6 +32,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Literal
 
+from cognition.camera import CameraImage
 from cognition.gamestate import TEAM_MESSAGE_MAX_BYTES, GameControlData
 from cognition.percepts import Percepts
 
@@ -88,9 +89,10 @@ class TeamMessageIn:
 class SensorFrame:
     """Everything one robot senses in one cognition frame.
 
-    ``percepts`` holds what vision reported for the latest image (synthesized by the
-    simulator's camera model, taken ``latency`` seconds before ``time``); ``image`` is the
-    rendered camera image of the image observation path (not provided yet).
+    With the ``percepts`` observation, ``percepts`` holds what vision reported for the latest
+    image (synthesized by the simulator's camera model, taken ``latency`` seconds before
+    ``time``). With the ``images`` observation, ``image`` holds that image itself, with the
+    camera matrix and head angles of its exposure, and the brain's own vision makes percepts.
     """
 
     time: float
@@ -113,8 +115,8 @@ class SensorFrame:
     """Team messages received since the previous frame."""
     percepts: Percepts | None = None
     """Percepts of the latest camera image (robot frame), or ``None`` without a camera model."""
-    image: object | None = None
-    """Rendered camera image (image observation path), when the match provides it."""
+    image: CameraImage | None = None
+    """The latest camera image (image observation path), or ``None``."""
 
     @property
     def penalty(self) -> int:

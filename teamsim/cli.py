@@ -4,7 +4,11 @@
 subcommand     what it does
 =============  ==================================================================
 match          run a full headless match and print its summary; optionally write
-               a top-down video (MP4 or GIF) and the results to a directory
+               a video (MP4 or GIF: the top-down view beside one robot's camera)
+               and the results to a directory
+camera         run a match to given times and write robots' camera images as PNG,
+               raw and with their ground-truth annotations
+gallery        render the README's gallery of camera images (docs/gallery)
 =============  ==================================================================
 
 ``teamsim match --out DIR`` writes ``config.json`` first, appends every event to
@@ -24,6 +28,7 @@ from typing import Any, TextIO
 
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
 from teamsim.events import EventLog, LogEvent
+from teamsim.image_params import ImageParams
 from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, Match, MatchConfig
 from teamsim.percept_params import PerceptParams
 
@@ -60,13 +65,54 @@ def _match_parser(sub: Any) -> None:
         "--observation",
         choices=list(OBSERVATIONS),
         default=None,
-        help="what sensor frames carry: synthesized percepts or nothing (default percepts)",
+        help="what sensor frames carry: synthesized percepts, rendered images or nothing (default percepts)",
+    )
+    p.add_argument(
+        "--images",
+        choices=sorted(ImageParams.PRESETS),
+        default=None,
+        help="camera image effects preset (default: default)",
     )
     p.add_argument("--config", type=Path, default=None, help="JSON file with MatchConfig overrides")
-    p.add_argument("--video", type=Path, default=None, help="write a top-down video (.mp4 or .gif)")
+    p.add_argument("--video", type=Path, default=None, help="write a video (.mp4 or .gif) of the match")
     p.add_argument("--video-fps", type=float, default=10.0, help="frames per simulated second in the video")
+    p.add_argument(
+        "--video-robot",
+        default="auto",
+        help="whose camera is shown beside the top-down view: TEAM:NUMBER (e.g. 0:3), 'auto' "
+        "(team 0's highest number) or 'none' (top-down only)",
+    )
+    p.add_argument("--video-annotations", action="store_true", help="draw ground-truth annotations on the camera")
     p.add_argument("--out", type=Path, default=None, help="directory for config.json, events.jsonl, summary.json")
     p.add_argument("--events", action="store_true", help="also print the event log")
+
+
+def _camera_parser(sub: Any) -> None:
+    p = sub.add_parser("camera", help="write robots' camera images of a match as PNG (with annotations)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--players-per-team", type=int, default=None, help="robots per team (default 5)")
+    p.add_argument("--field", choices=sorted(FIELD_PRESETS), default=None, help="field preset (default spl2025)")
+    p.add_argument("--colours", choices=sorted(COLOUR_SCHEMES), default=None, help="colour scheme (default classic)")
+    p.add_argument("--images", choices=sorted(ImageParams.PRESETS), default=None, help="image effects preset")
+    p.add_argument("--config", type=Path, default=None, help="JSON file with MatchConfig overrides")
+    p.add_argument("--time", type=float, nargs="+", default=[30.0], help="match times to take pictures at (s)")
+    p.add_argument("--robot", nargs="+", default=["all"], help="TEAM:NUMBER robots, or 'all' (default)")
+    p.add_argument("--size", default="320x240", help="image size WIDTHxHEIGHT (default 320x240)")
+    p.add_argument("--out", type=Path, required=True, help="directory for the PNG files")
+
+
+def _gallery_parser(sub: Any) -> None:
+    p = sub.add_parser("gallery", help="render the README gallery of camera images")
+    p.add_argument("--out", type=Path, default=Path("docs/gallery"), help="directory (default docs/gallery)")
+    p.add_argument("--size", default="320x240", help="image size WIDTHxHEIGHT (default 320x240)")
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise ValueError(f"--size must be WIDTHxHEIGHT in pixels, e.g. 320x240; got {text!r}") from None
+    return w, h
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -77,6 +123,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _match_parser(sub)
+    _camera_parser(sub)
+    _gallery_parser(sub)
     return parser
 
 
@@ -99,15 +147,18 @@ def config_from_args(args: argparse.Namespace) -> MatchConfig:
         data["field"] = args.field
     if args.colours is not None:
         data["colours"] = args.colours
-    if args.percepts is not None:
+    if getattr(args, "percepts", None) is not None:
         current = data.get("percepts")
         data["percepts"] = dict(current, preset=args.percepts) if isinstance(current, dict) else args.percepts
-    if args.observation is not None:
+    if getattr(args, "observation", None) is not None:
         data["observation"] = args.observation
+    if args.images is not None:
+        current = data.get("images")
+        data["images"] = dict(current, preset=args.images) if isinstance(current, dict) else args.images
     referee = dict(data.get("referee", {}))
-    if args.half_seconds is not None:
+    if getattr(args, "half_seconds", None) is not None:
         referee["half_seconds"] = args.half_seconds
-    if args.rules is not None:
+    if getattr(args, "rules", None) is not None:
         referee["rules"] = args.rules
     if referee:
         data["referee"] = referee
@@ -139,11 +190,19 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
             events_file.flush()
 
     match = Match(config, log=EventLog(sink=sink))
+    panel = None
+    if args.video is not None and args.video_robot != "none":
+        from teamsim.camera_views import CameraPanel, parse_robot
+
+        n = config.players_per_team
+        team, number = (0, n) if args.video_robot == "auto" else parse_robot(args.video_robot, n)
+        panel = CameraPanel(match, team, number, annotate=args.video_annotations)
     writer = None
     try:
         on_step = None
         if args.video is not None:
             from cognition.field import make_colour_scheme
+            from teamsim.camera_views import side_by_side
             from teamsim.render import TopDownRenderer, VideoWriter
 
             renderer = TopDownRenderer(match.field, make_colour_scheme(config.colours))
@@ -152,7 +211,8 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
 
             def on_step(m: Match) -> None:
                 if m.steps % every == 0:
-                    writer.write(renderer.render(m.snapshot(), m.game_state()))
+                    top = renderer.render(m.snapshot(), m.game_state())
+                    writer.write(top if panel is None else side_by_side(top, panel.render()))
 
         summary = match.run(on_step=on_step)
     finally:
@@ -173,6 +233,31 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
+def run_camera(args: argparse.Namespace, out: TextIO) -> int:
+    """Run ``teamsim camera`` with parsed arguments."""
+    from teamsim.camera_views import parse_robot, write_snapshots
+
+    config = config_from_args(args)
+    n = config.players_per_team
+    if args.robot == ["all"]:
+        robots = [(t, k) for t in (0, 1) for k in range(1, n + 1)]
+    else:
+        robots = [parse_robot(text, n) for text in args.robot]
+    match = Match(dataclasses.replace(config, observation="none"))
+    paths = write_snapshots(match, args.time, robots, args.out, _size(args.size))
+    print(f"{len(paths)} images written to {args.out}", file=out)
+    return 0
+
+
+def run_gallery(args: argparse.Namespace, out: TextIO) -> int:
+    """Run ``teamsim gallery`` with parsed arguments."""
+    from teamsim.camera_views import write_gallery
+
+    paths = write_gallery(args.out, _size(args.size))
+    print(f"{len(paths)} images written to {args.out}", file=out)
+    return 0
+
+
 def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     """Entry point of the ``teamsim`` console script; returns the exit code."""
     parser = build_parser()
@@ -181,6 +266,10 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     try:
         if args.command == "match":
             return run_match(args, stream)
+        if args.command == "camera":
+            return run_camera(args, stream)
+        if args.command == "gallery":
+            return run_gallery(args, stream)
     except (ValueError, TypeError, OSError) as exc:
         print(f"teamsim {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -25,14 +25,17 @@ referee                  RefereeParams  rules and timing (half_seconds, rules, .
 odometry                 OdometryParams odometry error model
 channel                  ChannelParams  team-message delay, loss, budget
 observation              percepts    what sensor frames carry: ``percepts`` (synthesized
-                                     by the camera model) or ``none``
+                                     by the camera model), ``images`` (rendered camera
+                                     images with their camera matrix) or ``none``
 percepts                 default     PerceptParams or a preset name (ideal, default, harsh)
+images                   default     ImageParams or a preset name (ideal, default, harsh)
 camera                   CameraRig   head height and the two NAO cameras (320 x 240)
 events                   ()          scripted events (kidnap, penalties, ...)
 =======================  ==========  =============================================
 
 Camera images are taken ``percepts.latency`` seconds before the cognition frame that
-receives them (rounded to physics steps); :attr:`cognition.percepts.Percepts.time` says when.
+receives them (rounded to physics steps); :attr:`cognition.percepts.Percepts.time` and
+:attr:`cognition.camera.CameraImage.time` say when.
 """
 
 from __future__ import annotations
@@ -48,7 +51,7 @@ from typing import Any
 import numpy as np
 
 from cognition.brain import Brain, BrainContext
-from cognition.camera import CameraRig
+from cognition.camera import CameraImage, CameraRig
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_colour_scheme, make_field
 from cognition.gamestate import GameControlData, GameStateId, Penalty
 from cognition.oracle import OracleInput, OraclePose
@@ -63,6 +66,8 @@ from teamsim.events import (
     PlaceBall,
     ScriptedEvent,
 )
+from teamsim.image_params import ImageParams
+from teamsim.images import ImageRenderer
 from teamsim.odometry import OdometryModel, OdometryParams, TrueOdometry
 from teamsim.params import check_choice, check_positive, from_mapping
 from teamsim.percept_params import PerceptParams
@@ -73,7 +78,7 @@ from teamsim.state import WorldSnapshot
 from teamsim.world import PhysicsParams, World
 
 MAX_PLAYERS_PER_TEAM = 7
-OBSERVATIONS = ("percepts", "none")
+OBSERVATIONS = ("percepts", "images", "none")
 """Valid values of :attr:`MatchConfig.observation`."""
 
 
@@ -92,6 +97,7 @@ class MatchConfig:
     channel: ChannelParams = dataclass_field(default_factory=ChannelParams)
     observation: str = "percepts"
     percepts: PerceptParams = dataclass_field(default_factory=PerceptParams)
+    images: ImageParams = dataclass_field(default_factory=ImageParams)
     camera: CameraRig = dataclass_field(default_factory=CameraRig)
     events: tuple[ScriptedEvent, ...] = ()
 
@@ -111,6 +117,12 @@ class MatchConfig:
             object.__setattr__(self, "percepts", PerceptParams.preset(self.percepts))
         if not isinstance(self.percepts, PerceptParams):
             raise TypeError(f"MatchConfig.percepts must be PerceptParams or a preset name, got {self.percepts!r}")
+        if isinstance(self.images, str):
+            object.__setattr__(self, "images", ImageParams.preset(self.images))
+        if not isinstance(self.images, ImageParams):
+            raise TypeError(f"MatchConfig.images must be ImageParams or a preset name, got {self.images!r}")
+        if not isinstance(self.camera, CameraRig):
+            raise TypeError(f"MatchConfig.camera must be a CameraRig, got {self.camera!r}")
         if self.cognition_hz > self.physics.physics_hz:
             raise ValueError(
                 f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
@@ -255,12 +267,13 @@ class Match:
         self.field: Field = make_field(c.field)
         n = c.players_per_team
         seq = np.random.SeedSequence(c.seed)
-        children = seq.spawn(4 + 4 * n)
+        children = seq.spawn(5 + 4 * n)
         gens = [np.random.Generator(np.random.PCG64(s)) for s in children]
         # fixed consumer order; new consumers go at the end so existing streams stay the same
         fall_rng, channel_rng, self._event_rng, percept_rng = gens[:4]
         robot_rngs = gens[4 : 4 + 2 * n]
         odo_rngs = gens[4 + 2 * n : 4 + 4 * n]
+        image_rng = gens[4 + 4 * n]
         self.log = log or EventLog()
         self.world = World(self.field, n, c.physics, robot_rngs, fall_rng)
         self.referee = Referee(self.world, self.field, c.referee, self.log)
@@ -273,11 +286,17 @@ class Match:
             self.camera_model = PerceptSynthesizer(
                 self.field, c.percepts, percept_rng, c.camera, scheme.own_goal != scheme.opponent_goal
             )
+        self.image_renderer: ImageRenderer | None = None
+        """The camera-image renderer (only when ``observation`` is ``images``)."""
+        if c.observation == "images":
+            self.image_renderer = ImageRenderer(self.field, scheme, c.camera, c.images, image_rng)
         self._scene = Scene(n)
-        self._captures: deque[list[Percepts]] = deque()
+        self._captures: deque[list[Percepts] | list[CameraImage | None]] = deque()
         self._capture_index = 0
         self.percept_count = 0
         """Percepts delivered to brains so far (all robots)."""
+        self.image_count = 0
+        """Camera images delivered to brains so far (all robots)."""
         self.brains: list[Brain] = []
         for robot in self.world.robots:
             brain = brains(robot.team, robot.number)
@@ -365,10 +384,10 @@ class Match:
         while self._event_index < len(self._events) and self._events[self._event_index].time <= self.time:
             self.apply_event(self._events[self._event_index])
             self._event_index += 1
-        if self.camera_model is not None:
+        if self.camera_model is not None or self.image_renderer is not None:
             hz, latency = self.config.cognition_hz, self.config.percepts.latency
             while self.time >= self._capture_index / hz - latency - 1e-9:
-                self._captures.append(self.capture())
+                self._captures.append(self.capture() if self.camera_model is not None else self.capture_images())
                 self._capture_index += 1
         if self.time >= self._next_cognition - 1e-9:
             self._cognition()
@@ -411,6 +430,7 @@ class Match:
             occ.append((x, y, radius, p.fallen_height if fallen else p.robot_height, float(on)))
         sc.observers[:] = obs
         sc.occluders[:] = occ
+        sc.turn_rates[:] = [robot.body.angular_velocity for robot in self.world.robots]
         b = self.world.ball
         bp, bv = b.position, b.velocity
         sc.ball[:] = (bp.x, bp.y, bv.x, bv.y, 1.0)
@@ -422,9 +442,22 @@ class Match:
             raise RuntimeError("this match has observation='none': there is no camera model")
         return self.camera_model.synthesize(self.scene(), self.time)
 
+    def capture_images(self) -> list[CameraImage | None]:
+        """Take one camera image per robot now (``None`` for robots that cannot see)."""
+        if self.image_renderer is None:
+            raise RuntimeError(f"this match has observation={self.config.observation!r}: no images are rendered")
+        scene = self.scene()
+        ren = self.image_renderer
+        return [
+            ren.camera_image(scene, r, self.time) if scene.observers[r, 9] > 0.5 else None
+            for r in range(scene.observers.shape[0])
+        ]
+
     def _cognition(self) -> None:
         now = self.time
-        percepts = self._captures.popleft() if self._captures else None
+        capture = self._captures.popleft() if self._captures else None
+        percepts = capture if self.camera_model is not None else None
+        images = capture if self.image_renderer is not None else None
         self.referee.set_message_budget(self.channel.budget_left)
         game = self.referee.game_state()
         inbox = [self.channel.receive(0, now), self.channel.receive(1, now)]
@@ -444,10 +477,13 @@ class Match:
                 picked_up=robot.picked_up,
                 fallen=robot.is_fallen(),
                 messages=tuple(inbox[robot.team].get(robot.number, ())),
-                percepts=percepts[i] if percepts is not None else None,
+                percepts=percepts[i] if percepts is not None else None,  # type: ignore[arg-type]
+                image=images[i] if images is not None else None,  # type: ignore[arg-type]
             )
             if percepts is not None:
-                self.percept_count += len(percepts[i])
+                self.percept_count += len(percepts[i])  # type: ignore[arg-type]
+            if images is not None and images[i] is not None:
+                self.image_count += 1
             self.last_frames[i] = frame
             oracle = None
             if brain.uses_oracle:

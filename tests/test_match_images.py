@@ -1,0 +1,223 @@
+"""Images in the pipeline: effects on rendered scenes, determinism, bad input, the match, the CLI."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import math
+
+import numpy as np
+import pytest
+
+from cognition.brain import Brain, BrainContext
+from cognition.camera import CameraImage, CameraRig
+from cognition.representations import BrainOutput
+from cognition.field import FIELD_PRESETS, Field
+from teamsim.cli import main
+from teamsim.image_params import ImageParams
+from teamsim.images import ImageRenderer, draw_annotations, save_png
+from teamsim.match import Match, MatchConfig
+from teamsim.percepts import Scene, SceneRobot
+
+SPL = Field(FIELD_PRESETS["spl2025"], "spl2025")
+
+
+def scene(yaw_rate: float = 0.0, walking: bool = False) -> Scene:
+    robots = [
+        SceneRobot(0, 1, -2.0, 0.3, 0.1, head_pitch=0.2, yaw_rate=yaw_rate, walking=walking),
+        SceneRobot(1, 1, -0.5, 0.5, math.pi),
+    ]
+    return Scene.build(robots, (-1.0, 0.0), 1)
+
+
+def render(params: ImageParams | str, sc: Scene, seed: int = 0) -> np.ndarray:
+    return ImageRenderer(SPL, "classic", None, params, np.random.default_rng(seed)).render(sc, 0)
+
+
+def test_ideal_images_are_noise_free_and_need_no_random_numbers():
+    sc = scene(yaw_rate=2.0, walking=True)
+    a, b = render("ideal", sc, seed=1), render("ideal", sc, seed=2)
+    assert np.array_equal(a, b)
+    assert np.array_equal(a, ImageRenderer(SPL, "classic", None, "default").render(sc, 0, effects=False))
+
+
+def test_brightness_shifts_the_mean():
+    sc = scene()
+    ideal = render("ideal", sc).astype(float)
+    dim = render(dataclasses.replace(ImageParams.preset("ideal"), brightness=0.6), sc).astype(float)
+    assert dim.mean() == pytest.approx(0.6 * ideal.mean(), rel=0.02)
+
+
+def test_motion_blur_lowers_high_frequency_energy_with_head_speed():
+    params = dataclasses.replace(ImageParams.preset("ideal"), exposure=0.01)
+    energy = []
+    for rate in (0.0, 1.0, 4.0):
+        img = render(params, scene(yaw_rate=rate)).astype(float)
+        energy.append(float((np.diff(img, axis=1) ** 2).mean()))
+    assert energy[0] > 1.3 * energy[1] > 1.3 * 1.3 * energy[2]
+
+
+def test_default_effects_add_noise_with_the_model_sigma():
+    sc = scene()
+    params = dataclasses.replace(
+        ImageParams.preset("ideal"), read_noise=3.0, shot_noise=0.0
+    )  # noise only: the residual is the noise
+    residual = render(params, sc).astype(float) - render("ideal", sc).astype(float)
+    inside = (render("ideal", sc) > 10).all(axis=-1) & (render("ideal", sc) < 245).all(axis=-1)
+    assert residual[inside].std() == pytest.approx(3.0, rel=0.1)
+    assert abs(residual[inside].mean()) < 0.2
+
+
+def test_images_are_deterministic_for_a_seed():
+    sc = scene(yaw_rate=1.0, walking=True)
+    ren_a = ImageRenderer(SPL, "modern", None, "harsh", np.random.default_rng(5))
+    ren_b = ImageRenderer(SPL, "modern", None, "harsh", np.random.default_rng(5))
+    ren_c = ImageRenderer(SPL, "modern", None, "harsh", np.random.default_rng(6))
+    seq_a = [ren_a.render(sc, 0).copy() for _ in range(3)]
+    seq_b = [ren_b.render(sc, 0).copy() for _ in range(3)]
+    seq_c = [ren_c.render(sc, 0).copy() for _ in range(3)]
+    assert all(np.array_equal(x, y) for x, y in zip(seq_a, seq_b, strict=True))
+    assert not np.array_equal(seq_a[0], seq_c[0])
+    assert not np.array_equal(seq_a[0], seq_a[1])  # fresh noise in every image
+
+
+def test_bad_input_is_a_clear_error(tmp_path):
+    with pytest.raises(ValueError, match="width must be an integer >= 8"):
+        ImageRenderer(SPL, "classic", CameraRig().with_resolution(4, 240))
+    with pytest.raises(ValueError, match="unknown colour scheme 'neon'"):
+        ImageRenderer(SPL, "neon")
+    with pytest.raises(ValueError, match="unknown ImageParams preset 'blurry'"):
+        ImageRenderer(SPL, "classic", None, "blurry")
+    ren = ImageRenderer(SPL, "classic", None, "ideal")
+    with pytest.raises(ValueError, match="robot index"):
+        ren.render(scene(), 2)
+    with pytest.raises(ValueError, match="out must be a C-contiguous uint8 array of shape"):
+        ren.render(scene(), 0, out=np.zeros((10, 10, 3), dtype=np.uint8))
+    with pytest.raises(TypeError, match="expected a Scene"):
+        ren.render("scene", 0)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"writes \.png"):
+        save_png(tmp_path / "x.jpg", np.zeros((8, 8, 3), dtype=np.uint8))
+    with pytest.raises(ValueError, match="H x W x 3 uint8"):
+        save_png(tmp_path / "x.png", np.zeros((8, 8), dtype=np.uint8))
+    with pytest.raises(ValueError, match=r"unknown MatchConfig.images key\(s\) \[.brightnes.\]"):
+        MatchConfig.from_mapping({"images": {"brightnes": 2.0}})
+    with pytest.raises(ValueError, match="vignetting must be < 1"):
+        ImageParams(vignetting=1.0)
+
+
+class CameraBrain:
+    """Keeps the image of every frame."""
+
+    uses_oracle = False
+
+    def __init__(self) -> None:
+        self.frames: list[tuple[float, CameraImage | None, float, float]] = []
+
+    def reset(self, context: BrainContext) -> None:
+        self.context = context
+
+    def think(self, frame, oracle=None) -> BrainOutput:  # type: ignore[no-untyped-def]
+        self.frames.append((frame.time, frame.image, frame.head.yaw, frame.head.pitch))
+        return BrainOutput()
+
+
+def run_image_match(seed: int) -> tuple[Match, list[CameraBrain]]:
+    brains: list[CameraBrain] = []
+
+    def factory(team: int, number: int) -> Brain:
+        b = CameraBrain()
+        brains.append(b)
+        return b
+
+    config = MatchConfig(seed=seed, players_per_team=2, observation="images", images="default")
+    match = Match(config, brains=factory)
+    match.run(until=1.0)
+    return match, brains
+
+
+def test_a_match_delivers_images_with_their_camera_model():
+    match, brains = run_image_match(3)
+    latency = match.config.percepts.latency
+    rig = match.config.camera
+    for brain in brains:
+        images = [img for _, img, _, _ in brain.frames if img is not None]
+        assert len(images) >= 25
+        for time, img, _, _ in brain.frames[5:]:
+            assert isinstance(img, CameraImage)
+            assert img.pixels.shape == (240, 320, 3) and img.pixels.dtype == np.uint8
+            assert time - img.time == pytest.approx(latency, abs=0.011)
+            expected = rig.camera_matrix(img.camera_name, img.head_yaw, img.head_pitch)
+            assert np.allclose(img.camera.rotation, expected.rotation)
+            assert np.allclose(img.camera.position, expected.position)
+    assert match.image_count == sum(len([1 for f in b.frames if f[1] is not None]) for b in brains)
+
+
+def test_image_matches_are_deterministic():
+    def digest(seed: int) -> str:
+        _, brains = run_image_match(seed)
+        h = hashlib.sha256()
+        for b in brains:
+            for _, img, _, _ in b.frames:
+                if img is not None:
+                    h.update(img.pixels.tobytes())
+        return h.hexdigest()
+
+    assert digest(4) == digest(4)
+    assert digest(4) != digest(5)
+
+
+def test_images_do_not_change_the_match():
+    """The renderer has its own random stream: the game is the same with and without images."""
+    a = Match(MatchConfig(seed=2, players_per_team=2, observation="images"))
+    b = Match(MatchConfig(seed=2, players_per_team=2, observation="none"))
+    a.run(until=3.0)
+    b.run(until=3.0)
+    assert a.snapshot() == b.snapshot()
+
+
+def test_draw_annotations_marks_the_features():
+    ren = ImageRenderer(SPL, "classic", None, "ideal")
+    sc = scene()
+    img = ren.render(sc, 0)
+    ann = ren.annotate(sc)[0]
+    assert ann is not None and len(ann.lines) > 0 and len(ann.robots) == 1
+    drawn = draw_annotations(img, ann)
+    assert drawn.shape == img.shape and not np.array_equal(drawn, img)
+    u0, v0, u1, v1 = ann.robots[0, 2:6]
+    assert u1 > u0 and v1 > v0
+    box_edge = drawn[int(v0) : int(v1), int(u0)].astype(int) - img[int(v0) : int(v1), int(u0)].astype(int)
+    assert (np.abs(box_edge).max(axis=-1) > 0).mean() > 0.5
+
+
+def test_cli_camera_and_gallery_write_pngs(tmp_path, capsys):
+    out = tmp_path / "shots"
+    code = main(["camera", "--players-per-team", "2", "--time", "2", "--robot", "0:1", "1:2", "--out", str(out)])
+    assert code == 0
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [
+        "t0002.00_team0_player1.png",
+        "t0002.00_team0_player1_annotated.png",
+        "t0002.00_team1_player2.png",
+        "t0002.00_team1_player2_annotated.png",
+    ]
+    assert main(["gallery", "--out", str(tmp_path / "gallery"), "--size", "160x120"]) == 0
+    assert len(list((tmp_path / "gallery").glob("*.png"))) == 10
+    assert main(["camera", "--robot", "2:1", "--out", str(out)]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert main(["camera", "--size", "4x4", "--time", "0", "--robot", "0:1", "--out", str(out)]) == 2
+
+
+def test_cli_video_shows_the_camera_beside_the_field(tmp_path):
+    from PIL import Image
+
+    video = tmp_path / "m.gif"
+    args = ["match", "--players-per-team", "2", "--half-seconds", "2", "--video", str(video), "--video-fps", "2"]
+    assert main([*args, "--video-robot", "1:2"]) == 0
+    with Image.open(video) as im:
+        both, n_both = im.size, im.n_frames
+    assert main([*args, "--video-robot", "none"]) == 0
+    with Image.open(video) as im:
+        top_only = im.size
+    assert both[0] > 1.5 * top_only[0]  # the camera panel beside the field
+    assert both[1] == top_only[1]
+    assert n_both > 5
