@@ -174,6 +174,8 @@ class MatchSummary:
     messages_sent: tuple[int, int]
     percepts_per_frame: float
     """Mean number of percepts per robot and cognition frame (0 without a camera model)."""
+    images: int
+    """Camera images delivered to brains (0 unless ``observation`` is ``images``)."""
     sim_seconds: float
     wall_seconds: float
     physics_steps: int
@@ -208,6 +210,7 @@ class MatchSummary:
             "placements": self.placements,
             "messages_sent": list(self.messages_sent),
             "percepts_per_frame": self.percepts_per_frame,
+            "images": self.images,
             "sim_seconds": self.sim_seconds,
             "physics_steps": self.physics_steps,
         }
@@ -241,7 +244,10 @@ class MatchSummary:
         lines.append(f"returns        {len(self.returns)}")
         lines.append(f"set plays      {self.set_plays}, manual placements {self.placements}")
         lines.append(f"team messages  {self.messages_sent[0]} / {self.messages_sent[1]}")
-        lines.append(f"percepts       {self.percepts_per_frame:.2f} per robot and frame")
+        if self.images:
+            lines.append(f"camera images  {self.images}")
+        else:
+            lines.append(f"percepts       {self.percepts_per_frame:.2f} per robot and frame")
         lines.append(
             f"simulated      {self.sim_seconds:.1f} s in {self.wall_seconds:.1f} s wall "
             f"(real-time factor {self.real_time_factor:.1f}x, {self.physics_steps} physics steps)"
@@ -549,6 +555,7 @@ class Match:
             placements=c.placements,
             messages_sent=(self.channel.stats[0].sent, self.channel.stats[1].sent),
             percepts_per_frame=self.percept_count / max(1, self.frames * len(self.world.robots)),
+            images=self.image_count,
             sim_seconds=self.time,
             wall_seconds=self.wall_seconds,
             physics_steps=self.steps,
