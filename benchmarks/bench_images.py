@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.bench_percepts import record_scenes
 from cognition.camera import CameraRig
 from teamsim.images import ImageRenderer
 from teamsim.match import Match, MatchConfig
@@ -39,27 +40,6 @@ from teamsim.percepts import Scene
 BUDGET_IDEAL = 5000.0
 BUDGET_EFFECTS = 1500.0
 RESOLUTIONS = ((320, 240), (640, 480))
-
-
-def record_scenes(seconds: float, players: int, every: int = 3) -> list[Scene]:
-    """Scenes of every ``every``-th cognition frame of a match (copies of the packed arrays)."""
-    match = Match(MatchConfig(players_per_team=players, observation="none"))
-    scenes: list[Scene] = []
-    last = -1
-    while match.time < seconds:
-        match.step()
-        if match.frames != last:
-            last = match.frames
-            if last % every:
-                continue
-            live = match.scene()
-            s = Scene(players)
-            s.observers[:] = live.observers
-            s.occluders[:] = live.occluders
-            s.ball[:] = live.ball
-            s.turn_rates[:] = live.turn_rates
-            scenes.append(s)
-    return scenes
 
 
 def bench_render(scenes: list[Scene], size: tuple[int, int], preset: str, repeats: int) -> float:
@@ -109,7 +89,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     ap.add_argument("--repeats", type=int, default=3, help="timed passes over the scenes (median)")
     ap.add_argument("--json", type=Path, default=None, help="also write the figures to this JSON file")
     args = ap.parse_args(argv)
-    scenes = record_scenes(args.seconds, args.players)
+    scenes = record_scenes(args.seconds, args.players, every=3)
     figures: dict[str, float] = {"scenes": float(len(scenes)), "players_per_team": float(args.players)}
     for size in RESOLUTIONS:
         tag = f"{size[0]}x{size[1]}"

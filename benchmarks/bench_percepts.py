@@ -39,8 +39,8 @@ from teamsim.percepts import PerceptSynthesizer, Scene
 BUDGET_US = 10.0
 
 
-def record_scenes(seconds: float, players: int) -> list[Scene]:
-    """Scenes of every cognition frame of a match (copies of the packed arrays)."""
+def record_scenes(seconds: float, players: int, every: int = 1) -> list[Scene]:
+    """Scenes of every ``every``-th cognition frame of a match (copies of the packed arrays)."""
     match = Match(MatchConfig(players_per_team=players, observation="none"))
     scenes: list[Scene] = []
     last = -1
@@ -48,11 +48,14 @@ def record_scenes(seconds: float, players: int) -> list[Scene]:
         match.step()
         if match.frames != last:
             last = match.frames
+            if last % every:
+                continue
             live = match.scene()
             s = Scene(players)
             s.observers[:] = live.observers
             s.occluders[:] = live.occluders
             s.ball[:] = live.ball
+            s.turn_rates[:] = live.turn_rates
             scenes.append(s)
     return scenes
 

@@ -33,12 +33,8 @@ from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, Match, MatchConfig
 from teamsim.percept_params import PerceptParams
 
 
-def _match_parser(sub: Any) -> None:
-    p = sub.add_parser(
-        "match",
-        help="run a full headless match and print its summary",
-        description="Run a full match (two halves) with scripted oracle players and print a summary.",
-    )
+def _common_args(p: Any) -> None:
+    """Options shared by the subcommands that run a match."""
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument(
         "--players-per-team",
@@ -46,9 +42,25 @@ def _match_parser(sub: Any) -> None:
         default=None,
         help=f"robots per team, 1..{MAX_PLAYERS_PER_TEAM} (default 5)",
     )
-    p.add_argument("--half-seconds", type=float, default=None, help="length of a half in seconds (default 600)")
     p.add_argument("--field", choices=sorted(FIELD_PRESETS), default=None, help="field preset (default spl2025)")
     p.add_argument("--colours", choices=sorted(COLOUR_SCHEMES), default=None, help="colour scheme (default classic)")
+    p.add_argument(
+        "--images",
+        choices=sorted(ImageParams.PRESETS),
+        default=None,
+        help="camera image effects preset (default: default)",
+    )
+    p.add_argument("--config", type=Path, default=None, help="JSON file with MatchConfig overrides")
+
+
+def _match_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "match",
+        help="run a full headless match and print its summary",
+        description="Run a full match (two halves) with scripted oracle players and print a summary.",
+    )
+    _common_args(p)
+    p.add_argument("--half-seconds", type=float, default=None, help="length of a half in seconds (default 600)")
     p.add_argument(
         "--rules",
         choices=["spl2025", "spl2010"],
@@ -67,13 +79,6 @@ def _match_parser(sub: Any) -> None:
         default=None,
         help="what sensor frames carry: synthesized percepts, rendered images or nothing (default percepts)",
     )
-    p.add_argument(
-        "--images",
-        choices=sorted(ImageParams.PRESETS),
-        default=None,
-        help="camera image effects preset (default: default)",
-    )
-    p.add_argument("--config", type=Path, default=None, help="JSON file with MatchConfig overrides")
     p.add_argument("--video", type=Path, default=None, help="write a video (.mp4 or .gif) of the match")
     p.add_argument("--video-fps", type=float, default=10.0, help="frames per simulated second in the video")
     p.add_argument(
@@ -89,12 +94,7 @@ def _match_parser(sub: Any) -> None:
 
 def _camera_parser(sub: Any) -> None:
     p = sub.add_parser("camera", help="write robots' camera images of a match as PNG (with annotations)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--players-per-team", type=int, default=None, help="robots per team (default 5)")
-    p.add_argument("--field", choices=sorted(FIELD_PRESETS), default=None, help="field preset (default spl2025)")
-    p.add_argument("--colours", choices=sorted(COLOUR_SCHEMES), default=None, help="colour scheme (default classic)")
-    p.add_argument("--images", choices=sorted(ImageParams.PRESETS), default=None, help="image effects preset")
-    p.add_argument("--config", type=Path, default=None, help="JSON file with MatchConfig overrides")
+    _common_args(p)
     p.add_argument("--time", type=float, nargs="+", default=[30.0], help="match times to take pictures at (s)")
     p.add_argument("--robot", nargs="+", default=["all"], help="TEAM:NUMBER robots, or 'all' (default)")
     p.add_argument("--size", default="320x240", help="image size WIDTHxHEIGHT (default 320x240)")
