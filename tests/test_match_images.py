@@ -11,8 +11,8 @@ import pytest
 
 from cognition.brain import Brain, BrainContext
 from cognition.camera import CameraImage, CameraRig
-from cognition.representations import BrainOutput
 from cognition.field import FIELD_PRESETS, Field
+from cognition.representations import BrainOutput
 from teamsim.cli import main
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer, draw_annotations, save_png
