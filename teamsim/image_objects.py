@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from teamsim.image_venue import GEO, C
-from teamsim.percept_parts import OBS, OC
+from teamsim.percept_parts import OBS, OC, clip
 
 NEAR = 0.01
 """Near plane (m of depth): object parts closer than this are cut."""
@@ -101,17 +101,6 @@ def box_pixels(x0, x1, y0, y1, z0, z1, m, cam, fx, fy, cx, cy, W, H):  # pragma:
 
 
 @nb.njit(cache=True, inline="always")
-def _halfline(alpha, beta, lo, hi):  # pragma: no cover - compiled
-    """[lo, hi] intersected with {u : alpha + beta u >= 0} (empty: lo > hi)."""
-    if abs(beta) < 1e-18:
-        return (lo, hi) if alpha >= 0.0 else (1.0, 0.0)
-    x = -alpha / beta
-    if beta > 0.0:
-        return max(lo, x), hi
-    return lo, min(hi, x)
-
-
-@nb.njit(cache=True, inline="always")
 def _cols(lo, hi, i0, i1):  # pragma: no cover - compiled
     """Pixels [a, b) of [i0, i1) whose centres may lie in the column interval [lo, hi]."""
     if hi < lo:
@@ -154,8 +143,8 @@ def _wedge_cols(w, a1, b1, a2, b2, i0, i1):  # pragma: no cover - compiled
     ok, c1, c2, e1, e2 = w
     if not ok:
         return i0, i1
-    lo, hi = _halfline(c1 * a1 + c2 * a2, c1 * b1 + c2 * b2, -4.0, 1e7)
-    lo, hi = _halfline(e1 * a1 + e2 * a2, e1 * b1 + e2 * b2, lo, hi)
+    lo, hi = clip(c1 * a1 + c2 * a2, c1 * b1 + c2 * b2, -4.0, 1e7)
+    lo, hi = clip(e1 * a1 + e2 * a2, e1 * b1 + e2 * b2, lo, hi)
     return _cols(lo, hi, i0, i1)
 
 
@@ -462,11 +451,11 @@ def _net(n_ax, a_ax, b_ax, plane, rect, box, net, cam, d0, du, dv, W, img):  # p
         v = j + 0.5
         ar = (sgn * (d0[0] + v * dv[0]), d0[1] + v * dv[1], d0[2] + v * dv[2])
         an, bn = sg * ar[n_ax], sg * bu[n_ax]  # along the normal toward the plane: > 0 in front
-        lo, hi = _halfline(an, bn, -4.0, 1e7)
-        lo, hi = _halfline(ag * ar[a_ax] - (lo1 - oa) * an, ag * bu[a_ax] - (lo1 - oa) * bn, lo, hi)
-        lo, hi = _halfline((hi1 - oa) * an - ag * ar[a_ax], (hi1 - oa) * bn - ag * bu[a_ax], lo, hi)
-        lo, hi = _halfline(ag * ar[b_ax] - (lo2 - ob) * an, ag * bu[b_ax] - (lo2 - ob) * bn, lo, hi)
-        lo, hi = _halfline((hi2 - ob) * an - ag * ar[b_ax], (hi2 - ob) * bn - ag * bu[b_ax], lo, hi)
+        lo, hi = clip(an, bn, -4.0, 1e7)
+        lo, hi = clip(ag * ar[a_ax] - (lo1 - oa) * an, ag * bu[a_ax] - (lo1 - oa) * bn, lo, hi)
+        lo, hi = clip((hi1 - oa) * an - ag * ar[a_ax], (hi1 - oa) * bn - ag * bu[a_ax], lo, hi)
+        lo, hi = clip(ag * ar[b_ax] - (lo2 - ob) * an, ag * bu[b_ax] - (lo2 - ob) * bn, lo, hi)
+        lo, hi = clip((hi2 - ob) * an - ag * ar[b_ax], (hi2 - ob) * bn - ag * bu[b_ax], lo, hi)
         ia, ib = _cols(lo, hi, i0, i1)
         if ib <= ia:
             continue
