@@ -282,6 +282,11 @@ class Percepts:
         o = self._offsets
         return self._rows[o[0] : o[-1]]
 
+    @property
+    def kinds(self) -> NDArray[np.int64]:
+        """The :class:`Kind` of every row of :attr:`rows`."""
+        return np.repeat(np.arange(N_KINDS), np.diff(self._offsets))
+
     def table(self, kind: Kind) -> PerceptTable:
         """The rows of one kind."""
         o = self._offsets

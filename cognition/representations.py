@@ -23,6 +23,7 @@ KickRequest            kick direction (rad, robot frame) and strength in [0, 1]
 HeadRequest            target yaw/pitch (rad), max speed (rad/s), camera to read
 MotionRequest          walk or kick, plus head
 BrainOutput            motion request and an optional team message (<= 128 bytes)
+RobotPose              the localization's pose estimate (team frame) with its uncertainty
 =====================  ==================================================================
 """
 
@@ -31,6 +32,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
 
 from cognition.camera import CameraImage
 from cognition.gamestate import TEAM_MESSAGE_MAX_BYTES, GameControlData
@@ -201,3 +205,44 @@ class BrainOutput:
             raise ValueError(
                 f"team message has {len(self.message)} bytes; at most {TEAM_MESSAGE_MAX_BYTES} are allowed"
             )
+
+
+@dataclass(frozen=True)
+class RobotPose:
+    """The localization's estimate of the own pose (team frame), as behaviors read it.
+
+    ``covariance`` is the weighted covariance of the particles around the estimate (x, y in
+    m, theta in rad; the angle part from wrapped differences). ``lost`` is set when the
+    particles are spread too widely to trust the estimate (CMU paper, Sec. III.E).
+    ``particles`` (N x 3: x, y, theta) and ``weights`` (N, normalised) are the filter's set
+    for drawing; they are empty for the ``odometry`` and ``oracle`` variants.
+    """
+
+    x: float
+    """Position (m, team frame)."""
+    y: float
+    """Position (m, team frame)."""
+    theta: float
+    """Heading (rad, team frame), in (-pi, pi]."""
+    covariance: NDArray[np.float64]
+    """3 x 3 covariance of (x m, y m, theta rad)."""
+    lost: bool
+    """True when the estimate should not be trusted."""
+    n_particles: int
+    """Number of particles in the filter (0 for variants without particles)."""
+    particles: NDArray[np.float64]
+    """N x 3 particle poses (team frame), read-only."""
+    weights: NDArray[np.float64]
+    """N normalised particle weights, read-only."""
+    variant: str = ""
+    """Name of the localization variant that produced the estimate."""
+
+    @property
+    def pose(self) -> tuple[float, float, float]:
+        """(x m, y m, theta rad) in the team frame."""
+        return (self.x, self.y, self.theta)
+
+    @property
+    def position_std(self) -> float:
+        """sqrt of the trace of the position covariance (m)."""
+        return float(np.sqrt(max(0.0, self.covariance[0, 0] + self.covariance[1, 1])))

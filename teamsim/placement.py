@@ -1,6 +1,7 @@
 """Where robots stand: team frames, initial positions, legality, return spots.
 
-The predefined kickoff positions are robot knowledge and live in :mod:`cognition.positions`.
+The predefined kickoff positions and the start positions of a half are robot knowledge and
+live in :mod:`cognition.positions` and :mod:`cognition.localization.places`.
 
 Team frame (a team's field frame, :mod:`cognition.field`): +x toward the goal the team
 attacks. Team 0 attacks world +x in the first half; the teams switch sides at half time, so
@@ -21,11 +22,11 @@ from typing import Literal
 
 from cognition.field import Field
 from cognition.geometry import wrap_angle
+from cognition.localization.places import RETURN_OUTSIDE_TOUCHLINE
+from cognition.localization.places import initial_position as initial_position  # re-exported
 
 ReturnRule = Literal["spl2025", "spl2010"]
 RETURN_RULES: tuple[str, ...] = ("spl2025", "spl2010")
-RETURN_OUTSIDE_TOUCHLINE = 0.5
-"""How far outside the touchline (m) the ``spl2025`` rule returns a robot."""
 
 
 def attack_sign(team: int, first_half: bool) -> float:
@@ -43,22 +44,6 @@ def team_to_world(sign: float, x: float, y: float, theta: float) -> tuple[float,
 def world_to_team(sign: float, x: float, y: float, theta: float) -> tuple[float, float, float]:
     """Convert a world-frame pose to the team frame (the transform is its own inverse)."""
     return team_to_world(sign, x, y, theta)
-
-
-def initial_position(field_map: Field, number: int, players_per_team: int) -> tuple[float, float, float]:
-    """Pose (team frame) at the touchline of the own half where robots start a half.
-
-    Odd player numbers stand on the right touchline (y < 0), even ones on the left, facing
-    the field.
-    """
-    side = -1.0 if number % 2 == 1 else 1.0
-    per_side = (players_per_team + 1) // 2
-    slot = (number - 1) // 2
-    span = field_map.half_length - 0.8
-    step = span / max(1, per_side - 1) if per_side > 1 else 0.0
-    x = -field_map.half_length + 0.5 + slot * step
-    y = side * field_map.half_width
-    return (x, y, -side * math.pi / 2)
 
 
 def is_inside_field(field_map: Field, x: float, y: float, margin: float = 0.0) -> bool:

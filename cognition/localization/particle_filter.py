@@ -1,0 +1,279 @@
+"""The particle-filter variants ``mcl``, ``lowvar``, ``amcl``, ``reset`` and ``maturing``.
+
+One frame (CMU paper, Alg. 1): game-controller events (:mod:`cognition.localization.base`),
+prediction with the odometry (CMU Alg. 2), the observation update in log space (sensor
+models of :mod:`cognition.localization.sensor`), pose extraction (CMU III.E), then, if
+anything was observed, resampling by the variant:
+
+=========  ==================================================================================
+variant    resampling step
+=========  ==================================================================================
+mcl        multinomial (DNT 4.1)
+lowvar     low variance (DNT 4.6)
+amcl       multinomial; a share max(0, 1 - w_fast / w_slow) of random poses (DNT 4.4), in
+           mirrored pairs, or in the own half while the game state is INITIAL, READY or SET;
+           w_slow and w_fast restart from 0 after an injection
+reset      CMU Alg. 4: the same share comes from vision (two-post intersection, one-post circle,
+           optionally a random feature, DNT 4.5), at least ``reset_probability`` while lost;
+           the particle count adapts between ``min_particles`` and ``particles``: it grows as
+           the per-observation evidence falls
+maturing   low variance; candidate poses generated from single observations are tracked with
+           the odometry and scored against later frames; only those consistent for
+           ``maturing_threshold`` frames replace particles (Darmstadt VI)
+=========  ==================================================================================
+
+The evidence of a frame is the mean likelihood of the particles, taken per observation
+(the K-th root for K observations) so that w_slow and w_fast do not jump with the number of
+features in view. All weights live in log space; after every update they are normalised,
+so an observation that no particle explains leaves finite, uniform weights, never NaN.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.field import Field
+from cognition.gamestate import GameStateId
+from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
+from cognition.localization.base import Localizer
+from cognition.localization.fieldmodel import FieldModel
+from cognition.localization.params import LocalizationParams
+from cognition.localization.places import placement_poses
+from cognition.localization.resetting import from_vision
+from cognition.localization.sensor import log_likelihood_nb, pack_observations, sensor_table
+from cognition.representations import RobotPose, SensorFrame
+
+PARTICLE_VARIANTS = ("mcl", "lowvar", "amcl", "reset", "maturing")
+_MODELS: dict[int, tuple[Field, FieldModel]] = {}
+_OWN_HALF_STATES = (GameStateId.INITIAL, GameStateId.READY, GameStateId.SET)
+
+
+def field_model(field: Field) -> FieldModel:
+    """The (cached) compiled map of ``field``."""
+    hit = _MODELS.get(id(field))
+    if hit is None or hit[0] is not field:
+        hit = (field, FieldModel(field))
+        _MODELS[id(field)] = hit
+    return hit[1]
+
+
+class ParticleFilter(Localizer):
+    """Monte Carlo localization; ``variant`` picks the resampling step (module docstring)."""
+
+    def __init__(
+        self,
+        variant: str,
+        field: Field,
+        params: LocalizationParams | None = None,
+        rng: np.random.Generator | None = None,
+        player_number: int = 1,
+        players_per_team: int = 5,
+    ):
+        if variant not in PARTICLE_VARIANTS:
+            raise ValueError(f"unknown particle-filter variant {variant!r}; valid: {list(PARTICLE_VARIANTS)}")
+        self.name = variant
+        super().__init__(field, params, rng, player_number, players_per_team)
+        p = self.params
+        self.model = field_model(field)
+        self._state = np.array([int(self.rng.integers(1, 2**63 - 1))], dtype=np.uint64)
+        cap = p.particles
+        self.parts = np.zeros((cap, 3))
+        self._spare = np.zeros((cap, 3))
+        self.logw = np.zeros(cap)
+        self.w = np.full(cap, 1.0 / cap)
+        self._ll = np.zeros(cap)
+        self._pose_out = np.zeros(14)
+        self._prev = np.zeros(4)
+        self._motion = np.array([p.sigma_mx, p.sigma_mtheta, p.sigma_mytheta, p.motion_floor_xy, p.motion_floor_theta])
+        self._hough = np.array(
+            [
+                1.0 if p.line_model == "hough" else 0.0,
+                p.hough_sigma_rho,
+                p.hough_sigma_theta,
+                p.hough_sigma_u,
+                p.hough_sigma_spread,
+            ]
+        )
+        self._table = sensor_table(p)
+        self.n = p.min_particles if variant == "reset" else cap
+        self.w_slow = 0.0
+        self.w_fast = 0.0
+        self.injected = 0
+        """Particles replaced by random or vision poses in the latest update."""
+        self._last_resample = -1e9
+        self._own_half = True
+        self._cand = np.zeros((0, 3))
+        self._cand_count = np.zeros(0, dtype=np.int64)
+        n0 = placement_poses(field, self.player_number, self.players_per_team, GameStateId.INITIAL, False)
+        self.set_particles_around(n0)
+
+    # -- initial beliefs -------------------------------------------------------------------
+    def set_particles_around(self, centres: NDArray[np.float64], sigma_xy: float | None = None) -> None:
+        """Spread all particles around the poses ``centres`` (K x 3, team frame), in turn."""
+        p = self.params
+        sxy = p.placement_sigma_xy if sigma_xy is None else sigma_xy
+        centres = np.ascontiguousarray(np.asarray(centres, dtype=np.float64).reshape(-1, 3))
+        K.gaussian_set_nb(self.parts, 0, self.n, centres, sxy, p.placement_sigma_theta, self._state)
+        self.logw[: self.n] = 0.0
+        self.w[: self.n] = 1.0 / self.n
+        self._prev[3] = 0.0
+
+    def set_uniform(self, own_half: bool = False) -> None:
+        """Spread all particles uniformly over the field (or the own half), all headings."""
+        hl, hw = self.field.half_length, self.field.half_width
+        K.uniform_set_nb(self.parts, 0, self.n, hl, hw, own_half, self._state)
+        self.logw[: self.n] = 0.0
+        self.w[: self.n] = 1.0 / self.n
+        self._prev[3] = 0.0
+
+    # -- game-controller events ------------------------------------------------------------
+    def on_side_switch(self) -> None:
+        n = self.n
+        self.parts[:n, :2] *= -1.0
+        self.parts[:n, 2] = np.mod(self.parts[:n, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
+        if self._cand.shape[0]:
+            self._cand[:, :2] *= -1.0
+            self._cand[:, 2] = np.mod(self._cand[:, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
+        self._prev[3] = 0.0
+
+    def on_placement(self, poses: NDArray[np.float64]) -> None:
+        self.set_particles_around(poses)
+
+    def on_penalty(self, penalized: bool, state: int) -> None:
+        self.set_particles_around(self.return_poses())
+
+    # -- the frame -------------------------------------------------------------------------
+    def _update(self, frame: SensorFrame, truth: tuple[float, float, float] | None) -> RobotPose:
+        p = self.params
+        n = self.n
+        o = frame.odometry
+        self._own_half = frame.game.state in _OWN_HALF_STATES
+        K.predict_nb(self.parts, n, o.dx, o.dy, o.dtheta, self._motion, self._state)
+        obs = pack_observations(frame.percepts, self._table) if not (frame.penalty or frame.picked_up) else None
+        k = 0 if obs is None else obs.shape[0]
+        m = self.model
+        if k:
+            log_likelihood_nb(
+                self.parts, n, obs, self._hough, m.posts, m.crossings, m.lines, m.marks, m.poles,
+                m.cross_grid, m.line_grid, m.geo, self._ll,
+            )  # fmt: skip
+            self.logw[:n] += self._ll[:n]
+        evidence = K.normalise_nb(self.logw, n, self.w)
+        if self.name == "maturing" and k:
+            self._mature(obs, o.dx, o.dy, o.dtheta)
+        elif self.name == "maturing":
+            self._move_candidates(o.dx, o.dy, o.dtheta)
+        K.pose_nb(self.parts, n, self.w, self._prev, p.cluster_radius, 0.5, 0.5, p.jump_weight, self._pose_out)
+        out = self._pose_out
+        self._prev[:3] = out[:3]
+        self._prev[3] = 1.0
+        pose = RobotPose(
+            float(out[0]), float(out[1]), float(out[2]), out[5:14].reshape(3, 3).copy(), bool(out[3] > p.lost_spread),
+            n, self.parts[:n].copy(), self.w[:n].copy(), self.name,
+        )  # fmt: skip
+        self.injected = 0
+        if k and frame.time - self._last_resample >= p.resample_interval:
+            self._last_resample = frame.time
+            self._resample(obs, math.exp(evidence / k), pose.lost)
+        return pose
+
+    # -- resampling per variant ------------------------------------------------------------
+    def _share(self, w_avg: float) -> float:
+        """Update w_slow and w_fast (DNT 4.4) and return the share of poses to replace."""
+        p = self.params
+        self.w_slow += p.alpha_slow * (w_avg - self.w_slow)
+        self.w_fast += p.alpha_fast * (w_avg - self.w_fast)
+        if self.w_slow <= 0.0:
+            return 0.0
+        return min(p.injection_max, max(0.0, 1.0 - self.w_fast / self.w_slow))
+
+    def _resample(self, obs: NDArray[np.float64], w_avg: float, lost: bool) -> None:
+        p = self.params
+        v = self.name
+        n_old = self.n
+        n_new = n_old
+        share = 0.0
+        if v == "reset":
+            n_new = int(min(p.particles, max(p.min_particles, math.ceil(p.min_particles / max(w_avg, 1e-3)))))
+        if v in ("amcl", "reset", "maturing"):
+            share = self._share(w_avg)
+            if v in ("reset", "maturing") and lost:
+                share = max(share, p.reset_probability)
+        low_var = v in ("lowvar", "maturing")
+        K.resample_nb(
+            self.parts, n_old, self.w, self._spare, n_new, low_var, p.resample_jitter_xy, p.resample_jitter_theta,
+            self._state,
+        )  # fmt: skip
+        self.parts, self._spare = self._spare, self.parts
+        self.n = n_new
+        self.logw[:n_new] = 0.0
+        self.w[:n_new] = 1.0 / n_new
+        m_inj = int(self.rng.binomial(n_new, share)) if share > 0.0 else 0
+        if m_inj == 0:
+            return
+        slots = self.rng.choice(n_new, size=m_inj, replace=False)
+        if v == "amcl":
+            fresh = np.empty((m_inj, 3))
+            K.uniform_set_nb(
+                fresh, 0, m_inj, self.field.half_length, self.field.half_width, self._own_half, self._state
+            )
+        elif v == "reset":
+            fresh = from_vision(self.model, obs, m_inj, p.reset_from_any_feature, self.rng)
+        else:
+            fresh = self._matured(m_inj)
+        if fresh.shape[0] == 0:
+            return
+        self.parts[slots[: fresh.shape[0]]] = fresh
+        self.injected = int(fresh.shape[0])
+        self.w_slow = self.w_fast = 0.0
+
+    # -- maturing candidates (Darmstadt VI) ------------------------------------------------
+    def _move_candidates(self, dx: float, dy: float, dth: float) -> None:
+        if self._cand.shape[0]:
+            c, s = np.cos(self._cand[:, 2]), np.sin(self._cand[:, 2])
+            self._cand[:, 0] += c * dx - s * dy
+            self._cand[:, 1] += s * dx + c * dy
+            self._cand[:, 2] = np.mod(self._cand[:, 2] + dth + math.pi, 2 * math.pi) - math.pi
+
+    def _mature(self, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
+        """Score the candidates against this frame; drop the inconsistent; refill from vision."""
+        p = self.params
+        self._move_candidates(dx, dy, dth)
+        nc = self._cand.shape[0]
+        if nc:
+            ll = np.empty(nc)
+            m = self.model
+            cand = np.ascontiguousarray(self._cand)
+            log_likelihood_nb(
+                cand, nc, obs, self._hough, m.posts, m.crossings, m.lines, m.marks, m.poles,
+                m.cross_grid, m.line_grid, m.geo, ll,
+            )  # fmt: skip
+            good = np.exp(ll / obs.shape[0]) >= 0.5
+            self._cand_count = np.where(good, self._cand_count + 1, 0)
+            keep = self._cand_count > 0
+            self._cand, self._cand_count = self._cand[keep], self._cand_count[keep]
+        room = p.maturing_candidates - self._cand.shape[0]
+        if room > 0:
+            fresh = from_vision(self.model, obs, room, True, self.rng)
+            self._cand = np.concatenate([self._cand, fresh])
+            self._cand_count = np.concatenate([self._cand_count, np.zeros(fresh.shape[0], dtype=np.int64)])
+
+    def _matured(self, m: int) -> NDArray[np.float64]:
+        ready = self._cand[self._cand_count >= self.params.maturing_threshold]
+        if ready.shape[0] == 0:
+            return np.zeros((0, 3))
+        out = np.empty((m, 3))
+        K.gaussian_set_nb(out, 0, m, np.ascontiguousarray(ready), 0.05, 0.05, self._state)
+        return out
+
+    @property
+    def candidates(self) -> NDArray[np.float64]:
+        """Maturing candidate poses (C x 3) and, in :attr:`candidate_counts`, their ages."""
+        return self._cand.copy()
+
+    @property
+    def candidate_counts(self) -> NDArray[np.int64]:
+        return self._cand_count.copy()
