@@ -1,0 +1,280 @@
+"""Localization: convergence, tracking, kidnapping recovery, game-controller events, robustness.
+
+Frames come from real matches (the simulator's camera model and odometry); the filters see
+only the sensor frames, and the truth is read from the simulator for scoring.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from cognition.brain import BrainContext
+from cognition.field import make_field
+from cognition.gamestate import GameControlData, GameStateId, RobotInfo, TeamInfo
+from cognition.localization import VARIANTS, LocalizationParams, make_localizer
+from cognition.localization.particle_filter import ParticleFilter
+from cognition.localization.places import return_poses
+from cognition.percepts import Percepts
+from cognition.representations import (
+    BrainOutput,
+    HeadRequest,
+    HeadState,
+    MotionRequest,
+    OdometryReading,
+    SensorFrame,
+    WalkRequest,
+)
+from teamsim.events import Kidnap
+from teamsim.match import Match, MatchConfig
+from teamsim.referee import RefereeParams
+
+SPL = make_field("spl2025")
+ME = 0  # robot index of team 0, player 1 in a 1 v 1 match
+
+
+class ScanBrain:
+    """Sweeps the head yaw between -1.4 and 1.4 rad; stands, or (``walk``) walks a square
+    loop in the own half while PLAYING. It steers by the true pose (a test driver; the
+    localizers under test never see it)."""
+
+    uses_oracle = True
+    LOOP = ((-3.0, -1.8), (-1.0, -1.8), (-1.0, 1.2), (-3.0, 1.2))
+
+    def __init__(self, walk: bool = False):
+        self.walk = walk
+        self.leg = 0
+
+    def reset(self, context: BrainContext) -> None:
+        self.context = context
+
+    def think(self, frame: SensorFrame, oracle) -> BrainOutput:
+        head = HeadRequest(yaw=1.4 * math.sin(0.8 * frame.time), pitch=0.35)
+        if not self.walk or frame.game.state != GameStateId.PLAYING:
+            return BrainOutput(MotionRequest(head=head))
+        me = oracle.self_pose
+        tx, ty = self.LOOP[self.leg]
+        if math.hypot(tx - me.x, ty - me.y) < 0.25:
+            self.leg = (self.leg + 1) % len(self.LOOP)
+            tx, ty = self.LOOP[self.leg]
+        err = (math.atan2(ty - me.y, tx - me.x) - me.theta + math.pi) % (2 * math.pi) - math.pi
+        walk = WalkRequest(forward=0.2 if abs(err) < 0.5 else 0.0, turn=max(-0.8, min(0.8, 1.5 * err)))
+        return BrainOutput(MotionRequest(walk=walk, head=head))
+
+
+def record(seed: int, seconds: float, walk: bool = False, percepts: str = "default", events=(), playing=False):
+    """Frames of robot ``ME`` and its true team-frame poses, from a 1 v 1 match."""
+    ref = (
+        RefereeParams(initial_seconds=1000.0) if not playing else RefereeParams(initial_seconds=0.5, ready_seconds=1.0)
+    )
+    cfg = MatchConfig(seed=seed, players_per_team=1, percepts=percepts, referee=ref, events=tuple(events))
+    m = Match(cfg, brains=lambda team, number: ScanBrain(walk))
+    frames, truth, last = [], [], None
+    robot = m.world.robots[ME]
+    while m.time < seconds:
+        m.step()
+        f = m.last_frames[ME]
+        if f is not None and f is not last:
+            last = f
+            frames.append(f)
+            truth.append(m.referee.team_pose(robot))
+    return frames, np.array(truth)
+
+
+def errors(poses, truth, symmetric: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Position (m) and heading (rad) errors; ``symmetric``: the smaller of truth and mirror."""
+    est = np.array([p.pose for p in poses])
+
+    def err(t):
+        d = np.hypot(est[:, 0] - t[:, 0], est[:, 1] - t[:, 1])
+        a = np.abs((est[:, 2] - t[:, 2] + math.pi) % (2 * math.pi) - math.pi)
+        return d, a
+
+    d, a = err(truth)
+    if symmetric:
+        mirror = np.column_stack([-truth[:, 0], -truth[:, 1], truth[:, 2] + math.pi])
+        d2, a2 = err(mirror)
+        use = d2 < d
+        d, a = np.where(use, d2, d), np.where(use, a2, a)
+    return d, a
+
+
+def run(variant: str, frames, seed: int = 0, params: LocalizationParams | None = None, uniform: bool = False):
+    loc = make_localizer(variant, SPL, params, np.random.default_rng(seed), player_number=1, players_per_team=1)
+    if uniform:
+        assert isinstance(loc, ParticleFilter)
+        loc.set_uniform()
+    return [loc.update(f) for f in frames], loc
+
+
+# -- convergence and tracking ---------------------------------------------------------------
+@pytest.mark.parametrize("variant", ["reset", "maturing"])
+def test_standing_robot_converges_from_uniform_prior(variant):
+    ok = 0
+    for seed in range(5):
+        frames, truth = record(seed, 6.0)
+        poses, _ = run(variant, frames, seed, uniform=True)
+        d, a = errors(poses, truth, symmetric=True)
+        tail = slice(int(4.0 * 30), None)  # after 4 s
+        if np.mean(d[tail]) < 0.3 and np.degrees(np.mean(a[tail])) < 10.0:
+            ok += 1
+    assert ok >= 4, f"{variant}: converged in only {ok} of 5 seeds"
+
+
+def test_walking_robot_is_tracked():
+    means = []
+    for seed in range(3):
+        frames, truth = record(seed, 25.0, walk=True, playing=True)
+        poses, _ = run("lowvar", frames, seed)
+        d, _ = errors(poses, truth)
+        playing = np.array([f.game.state == GameStateId.PLAYING and not f.penalty for f in frames])
+        assert playing.sum() > 400
+        means.append(np.mean(d[playing]))
+    assert np.mean(means) < 0.25, means
+
+
+def test_ideal_percepts_give_near_zero_error():
+    frames, truth = record(3, 8.0, percepts="ideal")
+    poses, _ = run("lowvar", frames, 3)
+    d, a = errors(poses, truth)
+    assert np.mean(d[-60:]) < 0.05 and np.degrees(np.mean(a[-60:])) < 2.0, (np.mean(d[-60:]), np.mean(a[-60:]))
+
+
+@pytest.mark.parametrize("option", [{"line_model": "hough"}, {"adaptive": True}, {"reset_from_any_feature": True}])
+def test_model_options_track_a_standing_robot(option):
+    frames, truth = record(4, 6.0)
+    poses, _ = run("reset", frames, 4, LocalizationParams(**option))
+    d, _ = errors(poses, truth)
+    assert np.mean(d[-60:]) < 0.3
+
+
+# -- kidnapping -----------------------------------------------------------------------------
+def _recovery_time(poses, truth, t0_index: int, hz: float = 30.0) -> float:
+    d, a = errors(poses, truth)
+    good = (d < 0.5) & (a < math.radians(30))
+    hold = int(hz)
+    for i in range(t0_index, len(good) - hold):
+        if good[i : i + hold].all():
+            return (i - t0_index) / hz
+    return (len(good) - t0_index) / hz  # not recovered: the horizon (censored)
+
+
+@pytest.mark.slow
+def test_reset_and_amcl_recover_from_kidnapping_faster_than_mcl():
+    times: dict[str, list[float]] = {"mcl": [], "amcl": [], "reset": []}
+    for seed in range(20):
+        rng = np.random.default_rng(100 + seed)
+        target = (float(rng.uniform(-3.5, 3.5)), float(rng.uniform(-2.5, 2.5)), float(rng.uniform(-math.pi, math.pi)))
+        ev = Kidnap(time=8.0, team=0, number=1, pose=target)
+        frames, truth = record(seed, 30.0, playing=True, events=[ev])
+        k = next(i for i, f in enumerate(frames) if f.time >= 8.0)
+        for v in times:
+            poses, _ = run(v, frames, seed)
+            times[v].append(_recovery_time(poses, truth, k))
+    for v in ("amcl", "reset"):
+        faster = sum(t < m for t, m in zip(times[v], times["mcl"], strict=True))
+        slower = sum(t > m for t, m in zip(times[v], times["mcl"], strict=True))
+        # one-sided sign test over the seeds where the two differ (p < 0.05)
+        n = faster + slower
+        p = sum(math.comb(n, i) for i in range(faster, n + 1)) / 2**n if n else 1.0
+        assert np.mean(times[v]) < np.mean(times["mcl"]) and p < 0.05, (v, times[v], times["mcl"], p)
+
+
+# -- game-controller events -----------------------------------------------------------------
+def _frame(
+    t: float, state=GameStateId.PLAYING, first_half=1, penalty=0, picked=False, odo=(0.0, 0.0, 0.0), percepts=None
+):
+    players = tuple(RobotInfo(penalty=penalty if i == 0 else 0) for i in range(7))
+    game = GameControlData(
+        state=state, first_half=first_half, teams=(TeamInfo(team_number=1, players=players), TeamInfo(team_number=2))
+    )
+    return SensorFrame(
+        time=t, frame_index=int(t * 30), team_number=1, player_number=1, odometry=OdometryReading(*odo),
+        head=HeadState(),
+        game=game, picked_up=picked, percepts=percepts,
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("variant", ["mcl", "amcl", "reset", "maturing"])
+def test_side_switch_mirrors_the_particles(variant):
+    loc = make_localizer(variant, SPL, rng=np.random.default_rng(0), player_number=1, players_per_team=1)
+    loc.update(_frame(0.0))
+    before = loc.parts[: loc.n].copy()
+    loc.update(_frame(0.1, first_half=0))
+    after = loc.parts[: loc.n]
+    assert np.allclose(after[:, :2], -before[:, :2], atol=0.05)
+    dth = (after[:, 2] - before[:, 2]) % (2 * math.pi)
+    assert np.allclose(dth, math.pi, atol=0.05)
+
+
+def test_pickup_in_ready_moves_particles_to_placements_and_penalty_to_return_spots():
+    loc = make_localizer("lowvar", SPL, rng=np.random.default_rng(1), player_number=1, players_per_team=1)
+    loc.set_uniform()
+    loc.update(_frame(0.0, state=GameStateId.READY))
+    loc.update(_frame(0.1, state=GameStateId.READY, picked=True))
+    xy = loc.parts[: loc.n, :2]
+    near_keeper = np.hypot(xy[:, 0] + SPL.half_length - 0.25, xy[:, 1]) < 0.6
+    assert near_keeper.mean() > 0.4  # the keeper's kickoff spot is one of two candidates
+    assert np.all(xy[:, 0] < 0.0)
+    for rule in ("spl2025", "spl2010"):
+        loc = make_localizer("reset", SPL, LocalizationParams(return_rule=rule), np.random.default_rng(2))
+        loc.update(_frame(0.0))
+        loc.update(_frame(0.1, penalty=2))
+        spots = return_poses(SPL, rule)
+        d = np.min(
+            np.hypot(loc.parts[: loc.n, None, 0] - spots[None, :, 0], loc.parts[: loc.n, None, 1] - spots[None, :, 1]),
+            axis=1,
+        )
+        assert np.all(d < 0.8)
+        sides = np.sign(loc.parts[: loc.n, 1])
+        assert 0.3 < np.mean(sides > 0) < 0.7  # both return spots are populated
+
+
+# -- robustness -----------------------------------------------------------------------------
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_a_minute_without_percepts_stays_finite(variant):
+    loc = make_localizer(variant, SPL, rng=np.random.default_rng(0), player_number=1, players_per_team=1)
+    truth = (0.0, 0.0, 0.0) if variant == "oracle" else None
+    for i in range(1800):
+        pose = loc.update(_frame(i / 30.0, odo=(0.005, 0.001, 0.01), percepts=Percepts.empty(i / 30.0)), truth)
+    assert math.isfinite(pose.x) and math.isfinite(pose.y) and math.isfinite(pose.theta)
+    assert np.all(np.isfinite(pose.covariance))
+    if isinstance(loc, ParticleFilter):
+        assert loc.n >= 1 and np.all(np.isfinite(loc.parts[: loc.n])) and abs(loc.w[: loc.n].sum() - 1) < 1e-9
+
+
+def test_observations_no_particle_explains_leave_finite_weights():
+    frames, _ = record(5, 2.0)
+    loc = make_localizer("amcl", SPL, rng=np.random.default_rng(0), player_number=1, players_per_team=1)
+    for f in frames:
+        loc.update(f)
+    seen = [f for f in frames if f.percepts is not None and len(f.percepts) > 0][-1]
+    rows = np.array(seen.percepts.rows)
+    rows[:, 0] += 500.0  # everything 500 m away
+    offsets = np.r_[0, np.cumsum(np.bincount(seen.percepts.kinds, minlength=8))]
+    far = Percepts(frames[-1].time, rows, offsets, None, None)
+    pose = loc.update(replace(frames[-1], percepts=far))
+    assert np.all(np.isfinite(loc.w[: loc.n])) and math.isfinite(pose.x) and math.isfinite(pose.theta)
+
+
+def test_same_seed_same_estimates():
+    frames, _ = record(6, 4.0)
+    a, _ = run("reset", frames, 9)
+    b, _ = run("reset", frames, 9)
+    assert [p.pose for p in a] == [p.pose for p in b]
+
+
+def test_bad_input_is_a_clear_error():
+    with pytest.raises(ValueError, match="unknown localization variant"):
+        make_localizer("kalman", SPL)
+    with pytest.raises(ValueError, match="unknown LocalizationParams key"):
+        LocalizationParams.from_mapping({"particle_count": 10})
+    with pytest.raises(ValueError, match="particles"):
+        LocalizationParams(particles=0)
+    with pytest.raises(ValueError, match="line_model"):
+        LocalizationParams(line_model="ransac")
+    with pytest.raises(ValueError, match="oracle"):
+        make_localizer("oracle", SPL).update(_frame(0.0))
