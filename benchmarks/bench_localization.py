@@ -1,0 +1,103 @@
+"""Microseconds per localization update versus particle count, on frames from a real match.
+
+Frames of one robot (5 v 5, oracle players, ``default`` percepts) are recorded once; each
+variant then processes all of them on one core, after a warm-up. The issue's budget: a
+300-particle update with 4 observations in 60 microseconds or less. Besides the mean over
+all frames, the figure for frames with exactly 4 observations (after line filtering) is
+reported.
+
+=====================================  =========================================================
+figure                                 meaning
+=====================================  =========================================================
+<variant>_<n>_us_per_update            mean time of ``update`` over all recorded frames
+<variant>_<n>_us_per_update_4obs       the same over frames with 4 observations
+mean_observations                      observations per frame fed to the filter
+=====================================  =========================================================
+
+Usage: ``python -m benchmarks.bench_localization [--seconds 20] [--json out.json]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+from cognition.localization import LocalizationParams, make_localizer
+from cognition.localization.sensor import pack_observations, sensor_table
+from cognition.representations import SensorFrame
+from teamsim.match import Match, MatchConfig
+
+COUNTS = (100, 300, 1000)
+VARIANTS = ("mcl", "lowvar", "amcl", "reset", "maturing")
+BUDGET_US = 60.0
+
+
+def record_frames(seconds: float, robot: int = 2) -> tuple[Match, list[SensorFrame]]:
+    """The sensor frames of one robot during ``seconds`` of a default 5 v 5 match."""
+    m = Match(MatchConfig(seed=1))
+    frames: list[SensorFrame] = []
+    last = None
+    while m.time < seconds:
+        m.step()
+        f = m.last_frames[robot]
+        if f is not None and f is not last:
+            frames.append(f)
+            last = f
+    return m, frames
+
+
+def time_updates(match: Match, frames: list[SensorFrame], variant: str, n: int) -> tuple[float, float]:
+    """(mean us per update over all frames, mean over the frames with 4 observations)."""
+    params = LocalizationParams(particles=n, min_particles=min(50, n))
+    loc = make_localizer(variant, match.field, params, np.random.default_rng(0), player_number=3)
+    for f in frames[:30]:
+        loc.update(f)
+    table = sensor_table(params)
+    four = [f for f in frames if pack_observations(f.percepts, table).shape[0] == 4]
+    best_all, best_four = 1e18, 1e18
+    for _ in range(3):
+        start = time.perf_counter()
+        for f in frames:
+            loc.update(f)
+        best_all = min(best_all, (time.perf_counter() - start) / len(frames))
+        if four:
+            start = time.perf_counter()
+            for f in four:
+                loc.update(f)
+            best_four = min(best_four, (time.perf_counter() - start) / len(four))
+    return best_all * 1e6, (best_four * 1e6 if four else float("nan"))
+
+
+def main(argv: list[str] | None = None) -> dict[str, float]:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seconds", type=float, default=20.0, help="match time to record frames from (s)")
+    ap.add_argument("--json", type=Path, default=None, help="also write the figures to this JSON file")
+    args = ap.parse_args(argv)
+    match, frames = record_frames(args.seconds)
+    table = sensor_table(LocalizationParams())
+    nobs = [pack_observations(f.percepts, table).shape[0] for f in frames]
+    figures: dict[str, float] = {"frames": float(len(frames)), "mean_observations": float(np.mean(nobs))}
+    print(f"{len(frames)} frames, {np.mean(nobs):.2f} observations per frame")
+    for v in VARIANTS:
+        for n in COUNTS:
+            all_us, four_us = time_updates(match, frames, v, n)
+            figures[f"{v}_{n}_us_per_update"] = all_us
+            figures[f"{v}_{n}_us_per_update_4obs"] = four_us
+            print(f"{v:9s} {n:5d} particles: {all_us:7.1f} us/update, {four_us:7.1f} with 4 observations", flush=True)
+    key = "lowvar_300_us_per_update_4obs"
+    ok = figures[key] <= BUDGET_US
+    print(f"budget: 300 particles, 4 observations: {figures[key]:.1f} us <= {BUDGET_US:.0f} {'OK' if ok else 'MISSED'}")
+    if args.json is not None:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        meta = {"python": platform.python_version(), "machine": platform.machine()}
+        args.json.write_text(json.dumps({"figures": figures, "meta": meta}, indent=2))
+    return figures
+
+
+if __name__ == "__main__":
+    main()
