@@ -16,6 +16,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
+import numpy as np
+
 from cognition.field import Field
 from cognition.oracle import OracleInput
 from cognition.representations import BrainOutput, SensorFrame
@@ -35,6 +37,8 @@ class BrainContext:
     """The field map."""
     cognition_hz: float
     """Cognition frames per second."""
+    rng: np.random.Generator | None = None
+    """The brain's own random stream, a child of the match seed (``None``: the brain seeds its own)."""
 
 
 @runtime_checkable

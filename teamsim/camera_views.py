@@ -6,6 +6,8 @@ function               what it does
 parse_robot            ``"T:N"`` (team index 0/1, player number) -> (team, number)
 CameraPanel            renders one robot's camera next to the top-down view of a match
 side_by_side           joins a top-down frame and a camera frame into one video frame
+belief_overlay         one robot's localization belief (particles, estimate) in the world
+                       frame, for the top-down view
 write_snapshots        runs a match to given times and writes robots' images as PNG
                        (raw and with ground-truth annotations)
 write_gallery          renders the fixed scenes of the README gallery (``docs/gallery``)
@@ -27,10 +29,13 @@ from numpy.typing import NDArray
 
 from cognition.camera import CameraRig
 from cognition.field import FIELD_PRESETS, Field
+from cognition.representations import RobotPose
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer, draw_annotations, save_png
 from teamsim.match import Match
 from teamsim.percepts import Scene, SceneRobot
+from teamsim.placement import team_to_world
+from teamsim.render import Belief
 
 VIDEO_CAMERA_SIZE = (640, 480)
 """Resolution (width, height) of the camera panel in videos (px)."""
@@ -86,6 +91,25 @@ def side_by_side(top: NDArray[np.uint8], camera: NDArray[np.uint8]) -> NDArray[n
     w = max(1, round(camera.shape[1] * h / camera.shape[0]))
     cam = cv2.resize(camera, (w, h), interpolation=cv2.INTER_AREA)
     return np.ascontiguousarray(np.concatenate([top, cam], axis=1))
+
+
+def belief_overlay(match: Match, team: int, number: int) -> Belief | None:
+    """The robot's latest pose estimate and particles, converted from its team frame to the world frame.
+
+    ``None`` when the robot's brain has no ``pose`` :class:`~cognition.representations.RobotPose`.
+    """
+    brain = match.brains[team * match.config.players_per_team + number - 1]
+    pose = getattr(brain, "pose", None)
+    if not isinstance(pose, RobotPose):
+        return None
+    sign = match.referee.sign(team)
+    x, y, theta = team_to_world(sign, pose.x, pose.y, pose.theta)
+    parts = np.array(pose.particles, dtype=np.float64).reshape(-1, 3)
+    if sign < 0:
+        parts[:, :2] *= -1.0
+        parts[:, 2] += math.pi
+    parts[:, 2] = (parts[:, 2] + math.pi) % (2.0 * math.pi) - math.pi
+    return Belief(team, x, y, theta, parts, bool(pose.lost))
 
 
 def write_snapshots(

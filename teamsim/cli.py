@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
+from cognition.localization import VARIANTS
 from teamsim.events import EventLog, LogEvent
 from teamsim.image_params import ImageParams
 from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, Match, MatchConfig
@@ -57,9 +58,17 @@ def _match_parser(sub: Any) -> None:
     p = sub.add_parser(
         "match",
         help="run a full headless match and print its summary",
-        description="Run a full match (two halves) with scripted oracle players and print a summary.",
+        description="Run a full match (two halves) with scripted players and print a summary. The players "
+        "read the ball and the other robots from ground truth; with --localization they act on their own "
+        "pose estimate, and the summary reports its error.",
     )
     _common_args(p)
+    p.add_argument(
+        "--localization",
+        choices=list(VARIANTS),
+        default=None,
+        help="localization variant the players run and act on (default: none, they read their true pose)",
+    )
     p.add_argument("--half-seconds", type=float, default=None, help="length of a half in seconds (default 600)")
     p.add_argument(
         "--rules",
@@ -88,6 +97,11 @@ def _match_parser(sub: Any) -> None:
         "(team 0's highest number) or 'none' (top-down only)",
     )
     p.add_argument("--video-annotations", action="store_true", help="draw ground-truth annotations on the camera")
+    p.add_argument(
+        "--video-particles",
+        action="store_true",
+        help="draw the particles and the estimated pose of the --video-robot robot (needs --localization)",
+    )
     p.add_argument("--out", type=Path, default=None, help="directory for config.json, events.jsonl, summary.json")
     p.add_argument("--events", action="store_true", help="also print the event log")
 
@@ -152,6 +166,8 @@ def config_from_args(args: argparse.Namespace) -> MatchConfig:
         data["percepts"] = dict(current, preset=args.percepts) if isinstance(current, dict) else args.percepts
     if getattr(args, "observation", None) is not None:
         data["observation"] = args.observation
+    if getattr(args, "localization", None) is not None:
+        data["localization"] = args.localization
     if args.images is not None:
         current = data.get("images")
         data["images"] = dict(current, preset=args.images) if isinstance(current, dict) else args.images
@@ -178,6 +194,11 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
     config = config_from_args(args)
     if args.video_fps <= 0:
         raise ValueError(f"--video-fps must be > 0, got {args.video_fps}")
+    if args.video_particles:
+        if args.video is None or args.video_robot == "none":
+            raise ValueError("--video-particles needs --video and a --video-robot (auto or TEAM:NUMBER)")
+        if config.localization is None:
+            raise ValueError("--video-particles needs --localization (or 'localization' in --config)")
     events_file: TextIO | None = None
     if args.out is not None:
         args.out.mkdir(parents=True, exist_ok=True)
@@ -191,18 +212,19 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
 
     match = Match(config, log=EventLog(sink=sink))
     panel = None
+    shown: tuple[int, int] | None = None
     if args.video is not None and args.video_robot != "none":
         from teamsim.camera_views import CameraPanel, parse_robot
 
         n = config.players_per_team
-        team, number = (0, n) if args.video_robot == "auto" else parse_robot(args.video_robot, n)
-        panel = CameraPanel(match, team, number, annotate=args.video_annotations)
+        shown = (0, n) if args.video_robot == "auto" else parse_robot(args.video_robot, n)
+        panel = CameraPanel(match, *shown, annotate=args.video_annotations)
     writer = None
     try:
         on_step = None
         if args.video is not None:
             from cognition.field import make_colour_scheme
-            from teamsim.camera_views import side_by_side
+            from teamsim.camera_views import belief_overlay, side_by_side
             from teamsim.render import TopDownRenderer, VideoWriter
 
             renderer = TopDownRenderer(match.field, make_colour_scheme(config.colours))
@@ -211,7 +233,8 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
 
             def on_step(m: Match) -> None:
                 if m.steps % every == 0:
-                    top = renderer.render(m.snapshot(), m.game_state())
+                    beliefs = [belief_overlay(m, *shown)] if args.video_particles and shown is not None else []
+                    top = renderer.render(m.snapshot(), m.game_state(), beliefs=[b for b in beliefs if b is not None])
                     writer.write(top if panel is None else side_by_side(top, panel.render()))
 
         summary = match.run(on_step=on_step)

@@ -31,6 +31,12 @@ percepts                 default     PerceptParams or a preset name (ideal, defa
 images                   default     ImageParams or a preset name (ideal, default, harsh)
 camera                   CameraRig   head height and the two NAO cameras (320 x 240)
 events                   ()          scripted events (kidnap, penalties, ...)
+localization             None        ``None``: scripted oracle players; a variant name
+                                     (``cognition.localization.VARIANTS``): the default
+                                     brains are localizing players that act on their
+                                     own pose estimate
+localization_params      default     LocalizationParams (or a mapping); its
+                                     ``return_rule`` is taken from ``referee.rules``
 =======================  ==========  =============================================
 
 Camera images are taken ``percepts.latency`` seconds before the cognition frame that
@@ -54,9 +60,12 @@ from cognition.brain import Brain, BrainContext
 from cognition.camera import CameraImage, CameraRig
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_colour_scheme, make_field
 from cognition.gamestate import GameControlData, GameStateId, Penalty
+from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
-from cognition.representations import SensorFrame
+from cognition.representations import RobotPose, SensorFrame
+from teamsim.brains import BrainFactory, LocalizationErrors, LocalizationSummary, default_brains
+from teamsim.brains import oracle_brains as oracle_brains  # re-exported
 from teamsim.channel import ChannelParams, TeamChannel
 from teamsim.events import (
     EventLog,
@@ -100,6 +109,8 @@ class MatchConfig:
     images: ImageParams = dataclass_field(default_factory=ImageParams)
     camera: CameraRig = dataclass_field(default_factory=CameraRig)
     events: tuple[ScriptedEvent, ...] = ()
+    localization: str | None = None
+    localization_params: LocalizationParams = dataclass_field(default_factory=LocalizationParams)
 
     def __post_init__(self) -> None:
         if not isinstance(self.seed, int) or self.seed < 0:
@@ -123,6 +134,13 @@ class MatchConfig:
             raise TypeError(f"MatchConfig.images must be ImageParams or a preset name, got {self.images!r}")
         if not isinstance(self.camera, CameraRig):
             raise TypeError(f"MatchConfig.camera must be a CameraRig, got {self.camera!r}")
+        if self.localization is not None:
+            check_choice("MatchConfig", "localization", self.localization, VARIANTS)
+        lp = self.localization_params
+        if isinstance(lp, Mapping):
+            object.__setattr__(self, "localization_params", LocalizationParams.from_mapping(dict(lp)))
+        elif not isinstance(lp, LocalizationParams):
+            raise TypeError(f"MatchConfig.localization_params must be LocalizationParams or a mapping, got {lp!r}")
         if self.cognition_hz > self.physics.physics_hz:
             raise ValueError(
                 f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
@@ -140,17 +158,6 @@ class MatchConfig:
         if "events" in data:
             raise ValueError("MatchConfig.from_mapping: give scripted events in code, not in the mapping")
         return from_mapping(cls, data)
-
-
-BrainFactory = Callable[[int, int], Brain]
-"""Makes the brain of (team index, player number)."""
-
-
-def oracle_brains(team: int, number: int) -> Brain:
-    """The default brain factory: scripted oracle players."""
-    from cognition.behaviors.oracle_players import OracleBrain
-
-    return OracleBrain()
 
 
 @dataclass
@@ -179,6 +186,8 @@ class MatchSummary:
     sim_seconds: float
     wall_seconds: float
     physics_steps: int
+    localization: LocalizationSummary | None = None
+    """Pose-estimate errors of the localizing brains (``None`` if no brain reports a pose)."""
 
     @property
     def real_time_factor(self) -> float:
@@ -213,6 +222,7 @@ class MatchSummary:
             "images": self.images,
             "sim_seconds": self.sim_seconds,
             "physics_steps": self.physics_steps,
+            "localization": self.localization.to_dict() if self.localization is not None else None,
         }
 
     def to_dict(self) -> dict[str, Any]:
@@ -248,6 +258,8 @@ class MatchSummary:
             lines.append(f"camera images  {self.images}")
         else:
             lines.append(f"percepts       {self.percepts_per_frame:.2f} per robot and frame")
+        if self.localization is not None:
+            lines.append(self.localization.format())
         lines.append(
             f"simulated      {self.sim_seconds:.1f} s in {self.wall_seconds:.1f} s wall "
             f"(real-time factor {self.real_time_factor:.1f}x, {self.physics_steps} physics steps)"
@@ -265,21 +277,23 @@ class Match:
     def __init__(
         self,
         config: MatchConfig | None = None,
-        brains: BrainFactory = oracle_brains,
+        brains: BrainFactory | None = None,
         log: EventLog | None = None,
     ):
+        """``brains`` makes each robot's brain; ``None``: :func:`teamsim.brains.default_brains`."""
         self.config = config or MatchConfig()
         c = self.config
         self.field: Field = make_field(c.field)
         n = c.players_per_team
         seq = np.random.SeedSequence(c.seed)
-        children = seq.spawn(5 + 4 * n)
+        children = seq.spawn(5 + 6 * n)
         gens = [np.random.Generator(np.random.PCG64(s)) for s in children]
         # fixed consumer order; new consumers go at the end so existing streams stay the same
         fall_rng, channel_rng, self._event_rng, percept_rng = gens[:4]
         robot_rngs = gens[4 : 4 + 2 * n]
         odo_rngs = gens[4 + 2 * n : 4 + 4 * n]
         image_rng = gens[4 + 4 * n]
+        brain_rngs = gens[5 + 4 * n : 5 + 6 * n]
         self.log = log or EventLog()
         self.world = World(self.field, n, c.physics, robot_rngs, fall_rng)
         self.referee = Referee(self.world, self.field, c.referee, self.log)
@@ -303,8 +317,12 @@ class Match:
         """Percepts delivered to brains so far (all robots)."""
         self.image_count = 0
         """Camera images delivered to brains so far (all robots)."""
+        if brains is None:
+            brains = default_brains(c.localization, c.localization_params, c.referee.rules)
+        self.localization_errors = LocalizationErrors()
+        """Errors of the brains' pose estimates (brains with a ``pose`` RobotPose; evaluation only)."""
         self.brains: list[Brain] = []
-        for robot in self.world.robots:
+        for i, robot in enumerate(self.world.robots):
             brain = brains(robot.team, robot.number)
             brain.reset(
                 BrainContext(
@@ -313,6 +331,7 @@ class Match:
                     players_per_team=n,
                     field=self.field,
                     cognition_hz=c.cognition_hz,
+                    rng=brain_rngs[i],
                 )
             )
             self.brains.append(brain)
@@ -497,6 +516,10 @@ class Match:
                     oracle_cache[robot.team] = self._oracle_poses(robot.team)
                 oracle = self._oracle_for(robot.team, robot.number, oracle_cache[robot.team])
             out = brain.think(frame, oracle)
+            estimate = getattr(brain, "pose", None)
+            if isinstance(estimate, RobotPose) and not robot.penalized:
+                truth = world_to_team(self.referee.sign(robot.team), *robot.pose)
+                self.localization_errors.add(estimate, truth)
             if not robot.penalized:
                 m = out.motion
                 robot.command(m.walk, m.kick, m.head)
@@ -559,6 +582,7 @@ class Match:
             sim_seconds=self.time,
             wall_seconds=self.wall_seconds,
             physics_steps=self.steps,
+            localization=self.localization_errors.summary(),
         )
 
     def is_playing(self) -> bool:

@@ -1,7 +1,9 @@
 """Top-down view of a match for people to look at (not the robots' camera model).
 
 :class:`TopDownRenderer` draws a :class:`~teamsim.state.WorldSnapshot` (ground truth, world
-frame) onto a pre-rendered, cached image of the field and returns an RGB ``uint8`` array;
+frame) onto a pre-rendered, cached image of the field and returns an RGB ``uint8`` array,
+optionally with robots' localization beliefs (:class:`Belief`: particles as small dots and the
+estimated pose as an outlined robot, in the team colour);
 :class:`VideoWriter` turns a sequence of such frames into an MP4 or an animated GIF.
 
 The image shows the carpet including the border strip, with a header strip on top for the
@@ -16,6 +18,7 @@ pixels_per_metre       60.0        image scale (px/m), finite, in [5, 400]
 team_names             Home, Away  names shown in the header for team index 0 and 1
 HEADER_HEIGHT          40          height of the text strip above the field (px)
 ROBOT_RADIUS           0.15        radius of a drawn robot (m)
+PARTICLE_RADIUS        0.02        radius of a drawn particle (m; at least 1 px)
 VideoWriter.fps        15.0        frames per second of the written video (> 0)
 VideoWriter.gif_scale  2           GIF frames are shrunk by this integer factor (1: none)
 =====================  ==========  =====================================================
@@ -26,11 +29,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from dataclasses import field as dataclass_field
 from pathlib import Path
 from types import TracebackType
 
 import cv2
 import numpy as np
+from numpy.typing import NDArray
 
 from cognition.field import ColourScheme, Field
 from cognition.gamestate import GameControlData, GameStateId
@@ -40,6 +45,8 @@ HEADER_HEIGHT = 40
 """Height of the header text strip (px)."""
 ROBOT_RADIUS = 0.15
 """Radius of a drawn robot (m)."""
+PARTICLE_RADIUS = 0.02
+"""Radius of a drawn particle (m; at least one pixel)."""
 
 RGB = tuple[int, int, int]
 Img = np.ndarray
@@ -83,6 +90,33 @@ class Overlay:
             raise ValueError(f"Overlay.colour must be three components in 0-255, got {self.colour}")
         if not (math.isfinite(self.x) and math.isfinite(self.y)):
             raise ValueError(f"Overlay position must be finite, got ({self.x}, {self.y})")
+
+
+@dataclass(frozen=True)
+class Belief:
+    """One robot's localization belief for drawing, already converted to the **world frame**."""
+
+    team: int
+    """Team index (0 or 1); picks the jersey colour."""
+    x: float
+    """Estimated position (m, world frame)."""
+    y: float
+    """Estimated position (m, world frame)."""
+    theta: float
+    """Estimated heading (rad, world frame)."""
+    particles: NDArray[np.float64] = dataclass_field(default_factory=lambda: np.zeros((0, 3)))
+    """N x 3 particle poses (x m, y m, theta rad; world frame); may be empty."""
+    lost: bool = False
+    """Whether the localization flags itself lost (drawn as a "?" beside the estimate)."""
+
+    def __post_init__(self) -> None:
+        if self.team not in (0, 1):
+            raise ValueError(f"Belief.team must be 0 or 1, got {self.team!r}")
+        if not (math.isfinite(self.x) and math.isfinite(self.y) and math.isfinite(self.theta)):
+            raise ValueError(f"Belief pose must be finite, got ({self.x}, {self.y}, {self.theta})")
+        p = np.asarray(self.particles)
+        if p.ndim != 2 or p.shape[1] != 3:
+            raise ValueError(f"Belief.particles must be N x 3, got shape {p.shape}")
 
 
 class TopDownRenderer:
@@ -226,11 +260,17 @@ class TopDownRenderer:
         snapshot: WorldSnapshot,
         game: GameControlData | None = None,
         overlays: Sequence[Overlay] = (),
+        beliefs: Sequence[Belief] = (),
     ) -> np.ndarray:
-        """One RGB ``uint8`` frame (H x W x 3, C-contiguous) of this snapshot."""
+        """One RGB ``uint8`` frame (H x W x 3, C-contiguous) of this snapshot.
+
+        ``beliefs`` are drawn over the robots and under the ball and ``overlays``.
+        """
         img = self._background.copy()
         for robot in snapshot.robots:
             self._draw_robot(img, robot, game)
+        for belief in beliefs:
+            self._draw_belief(img, belief)
         d, s = self.field.dims, self.scheme
         bx, by = snapshot.ball_x, snapshot.ball_y
         rad = max(d.ball_diameter / 2 * self.pixels_per_metre, 3.0) / self.pixels_per_metre
@@ -271,6 +311,27 @@ class TopDownRenderer:
         self._centred_text(img, str(r.number), r.x, r.y, ink, scale)
         if penalized:
             self._centred_text(img, "P", r.x, r.y + 1.8 * ROBOT_RADIUS, _WHITE, scale)
+
+    def _draw_belief(self, img: np.ndarray, b: Belief) -> None:
+        """Particles as small dots, the estimate as an outlined robot with a heading line."""
+        col = tuple(int(c) for c in self.scheme.team_colours[b.team])
+        parts = np.asarray(b.particles, dtype=np.float64)
+        if parts.shape[0]:
+            ppm = self.pixels_per_metre
+            cols = np.rint((parts[:, 0] + self._ox) * ppm - 0.5).astype(np.int64)
+            rows = np.rint(HEADER_HEIGHT + (self._oy - parts[:, 1]) * ppm - 0.5).astype(np.int64)
+            inside = (cols >= 0) & (cols < self.width) & (rows >= HEADER_HEIGHT) & (rows < self.height)
+            radius = max(1, round(PARTICLE_RADIUS * ppm))
+            for c, r in zip(cols[inside].tolist(), rows[inside].tolist(), strict=True):
+                cv2.circle(img, (c, r), radius, col, -1, cv2.LINE_8)
+        self._disc(img, b.x, b.y, ROBOT_RADIUS, _BLACK, 4)
+        self._disc(img, b.x, b.y, ROBOT_RADIUS, col, 2)
+        hx = b.x + 1.6 * ROBOT_RADIUS * math.cos(b.theta)
+        hy = b.y + 1.6 * ROBOT_RADIUS * math.sin(b.theta)
+        cv2.line(img, self._pt(b.x, b.y), self._pt(hx, hy), col, 2, _AA, _SHIFT)
+        if b.lost:
+            c, r = self._ipt(b.x + ROBOT_RADIUS, b.y + ROBOT_RADIUS)
+            self._text(img, "?", (c, r), col, 0.6)
 
     def _draw_overlay(self, img: np.ndarray, ov: Overlay) -> None:
         col = (int(ov.colour[0]), int(ov.colour[1]), int(ov.colour[2]))

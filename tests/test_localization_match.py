@@ -1,0 +1,314 @@
+"""Localization in matches: localizing players, their errors, the CLI flag and the particle view."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cognition.behaviors.localizing_players import HeadScanParams, LocalizingBrain
+from cognition.field import make_colour_scheme
+from cognition.localization import VARIANTS, LocalizationParams
+from cognition.oracle import OracleInput, OraclePose
+from cognition.representations import RobotPose, SensorFrame
+from teamsim.brains import LocalizationErrors, oracle_brains
+from teamsim.camera_views import belief_overlay
+from teamsim.cli import main
+from teamsim.match import Match, MatchConfig
+from teamsim.placement import world_to_team
+from teamsim.referee import RefereeParams
+from teamsim.render import Belief, TopDownRenderer
+
+
+def _particles_available() -> bool:
+    try:
+        from cognition.localization.particle_filter import ParticleFilter  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+PARTICLE_VARIANTS = [v for v in VARIANTS if v not in ("odometry", "oracle")]
+needs_particles = pytest.mark.skipif(not _particles_available(), reason="particle filter not written yet")
+
+
+def _config(localization: str | None, **kwargs: object) -> MatchConfig:
+    """5 v 5 with a short READY phase: robots walk from about 2 s and play from 17 s."""
+    referee = RefereeParams(half_seconds=60.0, ready_seconds=10.0)
+    return replace(MatchConfig(referee=referee, localization=localization), **kwargs)  # type: ignore[arg-type]
+
+
+def _true_team_pose(match: Match, index: int) -> tuple[float, float, float]:
+    robot = match.world.robots[index]
+    return world_to_team(match.referee.sign(robot.team), *robot.pose)
+
+
+@pytest.fixture(scope="module")
+def runs() -> dict[str, Match]:
+    out = {}
+    for variant in ("odometry", "oracle"):
+        m = Match(_config(variant))
+        m.run(until=20.0)
+        out[variant] = m
+    return out
+
+
+# -- (a) matches with localizing players ------------------------------------------------------
+@pytest.mark.parametrize("variant", ["odometry", "oracle"])
+def test_localizing_players_report_poses_and_errors(runs: dict[str, Match], variant: str) -> None:
+    m = runs[variant]
+    assert m.referee.counters.kickoffs  # the game reached PLAYING, robots walked on their estimates
+    for i, brain in enumerate(m.brains):
+        assert isinstance(brain, LocalizingBrain) and brain.variant == variant
+        assert isinstance(brain.pose, RobotPose) and brain.pose.variant == variant
+        assert brain.pose is brain.localizer.pose  # type: ignore[union-attr]
+        truth = _true_team_pose(m, i)  # now, up to 1/30 s after the estimate's frame
+        err = math.hypot(brain.pose.x - truth[0], brain.pose.y - truth[1])
+        assert err < (0.02 if variant == "oracle" else 1.5)
+    loc = m.summary().localization
+    assert loc is not None and loc.variant == variant
+    assert loc.frames == m.frames * len(m.world.robots)  # nobody was penalised
+    if variant == "oracle":
+        assert loc.position_error_mean < 1e-6 and loc.position_error_p90 < 1e-6
+        assert loc.heading_error_mean < 1e-6 and loc.lost_share == 0.0
+    else:
+        assert 0.0 < loc.position_error_mean <= loc.position_error_p90 < 1.5
+        assert math.isfinite(loc.heading_error_mean) and 0.0 < loc.heading_error_mean < 30.0
+        assert loc.lost_share == 0.0  # dead reckoning never claims to be lost
+    assert m.summary().deterministic_dict()["localization"] == loc.to_dict()
+    assert "localization   " + variant in m.summary().format()
+
+
+def test_default_match_has_no_localization_report() -> None:
+    m = Match(_config(None))
+    s = m.run(until=3.0)
+    assert s.localization is None and "localization" not in s.format()
+    assert not any(hasattr(b, "pose") for b in m.brains)
+
+
+class _SpyBrain(LocalizingBrain):
+    """Records the truth handed to the localizer and the own pose the decisions use."""
+
+    def reset(self, context):  # type: ignore[no-untyped-def]
+        super().reset(context)
+        self.truths: list[object] = []
+        self.used: list[tuple[float, float, float]] = []
+        self.estimates: list[tuple[float, float, float]] = []
+        self.oracle_truth: list[tuple[float, float, float]] = []
+        update = self.localizer.update  # type: ignore[union-attr]
+
+        def spy(frame: SensorFrame, truth: tuple[float, float, float] | None = None) -> RobotPose:
+            self.truths.append(truth)
+            return update(frame, truth)
+
+        self.localizer.update = spy  # type: ignore[union-attr, method-assign]
+
+    def think(self, frame, oracle):  # type: ignore[no-untyped-def]
+        me = oracle.self_pose
+        self.oracle_truth.append((me.x, me.y, me.theta))
+        out = super().think(frame, oracle)
+        assert self.pose is not None
+        self.estimates.append(self.pose.pose)
+        return out
+
+    def _transition(self, frame, oracle):  # type: ignore[no-untyped-def]
+        me = oracle.self_pose
+        self.used.append((me.x, me.y, me.theta))
+        return super()._transition(frame, oracle)
+
+
+@pytest.mark.parametrize("variant", ["odometry", "oracle"])
+def test_brain_acts_on_its_estimate_and_only_oracle_gets_truth(variant: str) -> None:
+    m = Match(_config(variant, players_per_team=2), brains=lambda team, number: _SpyBrain(variant))
+    m.run(until=12.0)
+    for brain in m.brains:
+        assert isinstance(brain, _SpyBrain)
+        assert brain.used == brain.estimates  # decisions read the estimate ...
+        if variant == "oracle":
+            assert brain.truths == brain.oracle_truth
+        else:
+            assert all(t is None for t in brain.truths)  # ... and no truth reaches the localizer
+            assert max(math.dist(e[:2], t[:2]) for e, t in zip(brain.estimates, brain.oracle_truth, strict=True)) > 1e-3
+
+
+def test_head_scans_every_few_seconds_and_while_lost() -> None:
+    m = Match(_config("odometry", players_per_team=1))
+    robot = m.world.robots[0]
+    yaws, states = [], []
+    while m.time < 16.0:
+        m.step()
+        yaws.append(robot.head.yaw)
+        states.append(m.brains[0].head_state)  # type: ignore[attr-defined]
+    scan_share = states.count("scan") / len(states)
+    assert 0.1 < scan_share < 0.35  # about 1 s in every 5 s
+    assert min(yaws) < -1.2 and max(yaws) > 1.2 and max(abs(y) for y in yaws) <= 1.5 + 1e-9
+
+    # a lost estimate makes the head scan outside the routine window too
+    brain = LocalizingBrain("oracle", scan_params=HeadScanParams(scan_period=100.0, scan_duration=0.5))
+    brain.reset(m.brains[0].context)  # type: ignore[attr-defined]
+    frame = m.last_frames[0]
+    assert frame is not None
+    me = OraclePose(1, -1.0, 0.0, 0.0)
+    oracle = OracleInput(me, (), (), 0.0, 2.0, 0.0, 0.0)  # ball 63 degrees to the left
+    frame = replace(frame, time=50.0)
+    out = brain.think(frame, oracle)
+    assert brain.head_state == "ball" and out.motion.head.yaw > 0.5
+    lost = replace(brain.localizer.pose, lost=True)  # type: ignore[union-attr]
+    brain.localizer._update = lambda frame, truth: lost  # type: ignore[union-attr, method-assign]
+    out = brain.think(replace(frame, time=50.1), oracle)
+    assert brain.head_state == "scan" and abs(out.motion.head.yaw) == pytest.approx(1.4)
+
+
+# -- (b) determinism and random streams ----------------------------------------------------
+@pytest.mark.parametrize("variant", ["odometry", pytest.param("mcl", marks=needs_particles)])
+def test_same_seed_same_estimates(variant: str) -> None:
+    finals = []
+    for _ in range(2):
+        m = Match(_config(variant, players_per_team=3, seed=4))
+        m.run(until=20.0)
+        finals.append([(b.pose.pose, b.pose.lost, b.pose.particles.tobytes()) for b in m.brains])  # type: ignore[attr-defined]
+    assert finals[0] == finals[1]
+
+
+def test_brain_streams_are_new_children_after_the_old_ones() -> None:
+    cfg = _config("odometry", players_per_team=3, seed=9)
+    n = cfg.players_per_team
+    m = Match(cfg)
+    old = np.random.SeedSequence(cfg.seed).spawn(5 + 4 * n)  # the order before brains had streams
+    for k, odo in enumerate(m.odometry):
+        g = np.random.Generator(np.random.PCG64(old[4 + 2 * n + k]))
+        assert odo.drift == float(g.normal(0.0, cfg.odometry.drift_sigma))
+    new = np.random.SeedSequence(cfg.seed).spawn(5 + 6 * n)
+    states = set()
+    for k, brain in enumerate(m.brains):
+        rng = brain.localizer.rng  # type: ignore[attr-defined]
+        assert rng.bit_generator.state == np.random.Generator(np.random.PCG64(new[5 + 4 * n + k])).bit_generator.state
+        states.add(str(rng.bit_generator.state))
+    assert len(states) == 2 * n
+
+
+def test_default_brains_unchanged_by_localization_support() -> None:
+    cfg = MatchConfig(referee=RefereeParams(half_seconds=20.0, ready_seconds=8.0), players_per_team=3)
+    a, b = Match(cfg), Match(cfg, brains=oracle_brains)
+    a.run(until=40.0)
+    b.run(until=40.0)
+    assert a.snapshot() == b.snapshot() and a.log.events == b.log.events
+
+
+# -- (c) configuration --------------------------------------------------------------------
+def test_unknown_variant_names_the_valid_ones() -> None:
+    with pytest.raises(ValueError, match=r"MatchConfig\.localization must be one of .*'mcl'.*'oracle'"):
+        MatchConfig(localization="kalman")
+    with pytest.raises(ValueError, match=r"unknown localization variant 'kalman'; valid: .*'amcl'"):
+        LocalizingBrain("kalman")
+
+
+def test_localization_params_from_mapping_and_return_rule_from_referee() -> None:
+    cfg = MatchConfig.from_mapping(
+        {"localization": "odometry", "localization_params": {"particles": 120}, "referee": {"rules": "spl2010"}}
+    )
+    assert cfg.localization_params == LocalizationParams(particles=120)
+    with pytest.raises(ValueError, match=r"unknown MatchConfig\.localization_params key\(s\) \['partcles'\]"):
+        MatchConfig.from_mapping({"localization_params": {"partcles": 3}})
+    with pytest.raises(TypeError, match="localization_params"):
+        MatchConfig(localization_params=3)  # type: ignore[arg-type]
+    m = Match(replace(cfg, players_per_team=1))
+    for brain in m.brains:
+        params = brain.localizer.params  # type: ignore[attr-defined]
+        assert params.return_rule == "spl2010" and params.particles == 120
+
+
+def test_localization_errors_accumulate() -> None:
+    errs = LocalizationErrors()
+    assert errs.summary() is None
+    empty = np.zeros((0, 3))
+    for k in range(10):
+        pose = RobotPose(float(k), 0.0, 0.1, np.eye(3), k == 0, 0, empty, np.zeros(0), "x")
+        errs.add(pose, (0.0, 0.0, -0.1))
+    s = errs.summary()
+    assert s is not None and s.frames == 10 and s.variant == "x"
+    assert s.position_error_mean == pytest.approx(4.5) and s.position_error_p90 == pytest.approx(8.1)
+    assert s.heading_error_mean == pytest.approx(math.degrees(0.2)) and s.lost_share == pytest.approx(0.1)
+
+
+# -- (d) the command line -------------------------------------------------------------------
+def test_cli_match_with_localization(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    argv = ["match", "--localization", "odometry", "--half-seconds", "10", "--players-per-team", "2"]
+    assert main([*argv, "--out", str(tmp_path)]) == 0
+    text = capsys.readouterr().out
+    assert "localization   odometry: position error mean" in text and "lost 0.0%" in text
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["localization"]["variant"] == "odometry" and summary["localization"]["frames"] > 0
+    assert json.loads((tmp_path / "config.json").read_text())["localization"] == "odometry"
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--video-particles"], "needs --video"),
+        (["--video-particles", "--video", "x.gif", "--video-robot", "none"], "needs --video"),
+        (["--video-particles", "--video", "x.gif"], "needs --localization"),
+    ],
+)
+def test_cli_video_particles_needs_video_and_localization(
+    argv: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["match", "--half-seconds", "5", *argv]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_cli_unknown_variant(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["match", "--localization", "kalman"])
+    assert "invalid choice: 'kalman'" in capsys.readouterr().err
+
+
+# -- the particle view ----------------------------------------------------------------------
+def test_belief_overlay_converts_team_to_world_frame() -> None:
+    m = Match(_config("odometry", players_per_team=2))
+    brain = m.brains[2]  # team 1 player 1, attacking world -x in the first half
+    assert m.referee.sign(1) == -1.0
+    particles = np.array([[1.0, 2.0, 0.5], [-3.0, 0.5, -3.0]])
+    brain.pose = RobotPose(1.0, 2.0, 0.5, np.eye(3), True, 2, particles, np.full(2, 0.5), "x")  # type: ignore[attr-defined]
+    b = belief_overlay(m, 1, 1)
+    assert b is not None and b.team == 1 and b.lost
+    assert (b.x, b.y) == (-1.0, -2.0) and b.theta == pytest.approx(0.5 - math.pi)
+    assert b.particles[:, :2].tolist() == [[-1.0, -2.0], [3.0, -0.5]]
+    assert b.particles[1, 2] == pytest.approx(math.pi - 3.0)
+    assert belief_overlay(Match(_config(None, players_per_team=1)), 0, 1) is None
+
+
+def test_renderer_draws_particles_and_estimate_in_team_colour() -> None:
+    m = Match(_config(None, players_per_team=1))
+    scheme = make_colour_scheme("classic")
+    view = TopDownRenderer(m.field, scheme)
+    plain = view.render(m.snapshot())
+    belief = Belief(1, 2.0, 1.0, 0.0, np.array([[-2.0, -1.5, 0.0], [0.5, -2.0, 1.0], [50.0, 0.0, 0.0]]))
+    img = view.render(m.snapshot(), beliefs=[belief])
+    colour = np.array(scheme.team_colours[1], dtype=np.uint8)
+    for x, y in ((-2.0, -1.5), (0.5, -2.0), (2.0 + 0.15, 1.0)):  # two particles and the estimate's outline
+        c, r = (round(v) for v in view.to_pixel(x, y))
+        assert (img[r, c] == colour).all() and not (plain[r, c] == colour).all()
+    with pytest.raises(ValueError, match="team"):
+        Belief(2, 0.0, 0.0, 0.0)
+
+
+# -- every variant in a 5 v 5 match ---------------------------------------------------------
+@needs_particles
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_every_variant_plays_20_seconds(variant: str) -> None:
+    m = Match(_config(variant))
+    s = m.run(until=20.0)
+    for brain in m.brains:
+        pose = brain.pose  # type: ignore[attr-defined]
+        assert isinstance(pose, RobotPose) and pose.variant == variant
+        assert all(math.isfinite(v) for v in pose.pose) and np.isfinite(pose.covariance).all()
+        assert pose.particles.shape == (pose.n_particles, 3) and np.isfinite(pose.particles).all()
+        if pose.n_particles:
+            assert pose.weights.sum() == pytest.approx(1.0)
+    assert s.localization is not None and 0 < s.localization.frames <= m.frames * 10
+    assert math.isfinite(s.localization.position_error_mean)
