@@ -283,6 +283,13 @@ class Percepts:
         return self._rows[o[0] : o[-1]]
 
     @property
+    def table_and_offsets(self) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+        """The underlying row table (possibly shared with other robots' percepts) and the
+        offsets of this image's kinds in it: kind k is ``table[offsets[k]:offsets[k + 1]]``.
+        For compiled consumers that avoid per-kind views."""
+        return self._rows, self._offsets
+
+    @property
     def kinds(self) -> NDArray[np.int64]:
         """The :class:`Kind` of every row of :attr:`rows`."""
         return np.repeat(np.arange(N_KINDS), np.diff(self._offsets))

@@ -25,6 +25,8 @@ import math
 import numba as nb
 import numpy as np
 
+from cognition.localization.likelihood import log_likelihood_nb
+
 _MUL = np.uint64(0x2545F4914F6CDD1D)
 _S12, _S25, _S27, _S11 = np.uint64(12), np.uint64(25), np.uint64(27), np.uint64(11)
 _TWO53 = 1.0 / 9007199254740992.0
@@ -104,13 +106,14 @@ def normalise_nb(logw, n, w):  # pragma: no cover - compiled
     total = 0.0
     for i in range(n):
         v = logw[i] if math.isfinite(logw[i]) else lo
-        logw[i] = v
+        logw[i] = v - m
         w[i] = math.exp(v - m)
         total += w[i]
+    shift = math.log(total / n)
     for i in range(n):
         w[i] /= total
-        logw[i] = math.log(max(w[i] * n, 1e-300))  # mean 1: the next update's mean is the evidence
-    return m + math.log(total / n)
+        logw[i] -= shift  # log(n w): mean 1, so the next update's mean is the evidence
+    return m + shift
 
 
 @nb.njit(cache=True)
@@ -225,3 +228,45 @@ def uniform_set_nb(out, start, m, hl, hw, own_half, state):  # pragma: no cover 
         if not own_half and i < m:
             out[start + i, 0], out[start + i, 1], out[start + i, 2] = -x, -y, wrap(th + math.pi)
             i += 1
+
+
+@nb.njit(cache=True)
+def frame_nb(
+    parts,
+    n,
+    odo,
+    motion,
+    state,
+    obs,
+    hough,
+    posts,
+    crossings,
+    lines,
+    marks,
+    poles,
+    cross_grid,
+    line_grid,
+    geo,
+    ll,
+    scratch,
+    logw,
+    w,
+    prev,
+    pose_par,
+    pose_out,
+):  # pragma: no cover - compiled
+    """One frame up to the pose, in one call: :func:`predict_nb` with ``odo`` (dx, dy,
+    dtheta), the observation update (``obs`` may have no rows), :func:`normalise_nb` and
+    :func:`pose_nb` with ``pose_par`` (cluster radius, near xy, near theta, jump weight).
+    Updates ``prev`` to the new pose; returns the log evidence of the observations."""
+    predict_nb(parts, n, odo[0], odo[1], odo[2], motion, state)
+    if obs.shape[0] > 0:
+        log_likelihood_nb(
+            parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch
+        )
+        for i in range(n):
+            logw[i] += ll[i]
+    evidence = normalise_nb(logw, n, w)
+    pose_nb(parts, n, w, prev, pose_par[0], pose_par[1], pose_par[2], pose_par[3], pose_out)
+    prev[0], prev[1], prev[2], prev[3] = pose_out[0], pose_out[1], pose_out[2], 1.0
+    return evidence

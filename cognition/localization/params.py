@@ -43,6 +43,8 @@ reset_from_any_feature     False           DNT 4.5: also reset from one random f
 maturing_threshold         3               Darmstadt VI: consistent observations a candidate
                                            pose needs before it may replace particles
 maturing_candidates        40              candidate poses kept while maturing
+maturing_consistency       0.3             a frame counts as consistent with a candidate when the
+                                           per-observation likelihood (no floors) reaches this
 cluster_radius             0.40            CMU III.E: particles within this of the best form the pose
 jump_weight                0.2             CMU III.E: below this cluster weight the pose jumps
 lost_spread                0.5             CMU III.E: weighted position sd (m) above which the robot is lost
@@ -113,6 +115,7 @@ class LocalizationParams:
     reset_from_any_feature: bool = False
     maturing_threshold: int = 3
     maturing_candidates: int = 40
+    maturing_consistency: float = 0.3
     cluster_radius: float = 0.40
     jump_weight: float = 0.2
     lost_spread: float = 0.5
@@ -180,6 +183,7 @@ class LocalizationParams:
             alpha_fast=self.alpha_fast,
             injection_max=self.injection_max,
             reset_probability=self.reset_probability,
+            maturing_consistency=self.maturing_consistency,
             jump_weight=self.jump_weight,
         )
         if self.alpha_slow >= self.alpha_fast:

@@ -40,15 +40,17 @@ from cognition.gamestate import GameStateId
 from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
+from cognition.localization.likelihood import log_likelihood_nb
 from cognition.localization.params import LocalizationParams
 from cognition.localization.places import placement_poses
 from cognition.localization.resetting import from_vision
-from cognition.localization.sensor import log_likelihood_nb, pack_observations, sensor_table
+from cognition.localization.sensor import N_O, O, pack_observations, sensor_table
 from cognition.representations import RobotPose, SensorFrame
 
 PARTICLE_VARIANTS = ("mcl", "lowvar", "amcl", "reset", "maturing")
 _MODELS: dict[int, tuple[Field, FieldModel]] = {}
 _OWN_HALF_STATES = (GameStateId.INITIAL, GameStateId.READY, GameStateId.SET)
+_NO_OBS = np.zeros((0, N_O))
 
 
 def field_model(field: Field) -> FieldModel:
@@ -85,7 +87,10 @@ class ParticleFilter(Localizer):
         self.logw = np.zeros(cap)
         self.w = np.full(cap, 1.0 / cap)
         self._ll = np.zeros(cap)
+        self._scratch = np.zeros((5, max(cap, p.maturing_candidates)))
         self._pose_out = np.zeros(14)
+        self._pose_par = np.array([p.cluster_radius, 0.5, 0.5, p.jump_weight])
+        self._odo = np.zeros(3)
         self._prev = np.zeros(4)
         self._motion = np.array([p.sigma_mx, p.sigma_mtheta, p.sigma_mytheta, p.motion_floor_xy, p.motion_floor_theta])
         self._hough = np.array(
@@ -150,34 +155,33 @@ class ParticleFilter(Localizer):
         p = self.params
         n = self.n
         o = frame.odometry
-        self._own_half = frame.game.state in _OWN_HALF_STATES
-        K.predict_nb(self.parts, n, o.dx, o.dy, o.dtheta, self._motion, self._state)
-        obs = pack_observations(frame.percepts, self._table) if not (frame.penalty or frame.picked_up) else None
-        k = 0 if obs is None else obs.shape[0]
+        game = frame.game
+        self._own_half = game.state in _OWN_HALF_STATES
+        self._odo[0], self._odo[1], self._odo[2] = o.dx, o.dy, o.dtheta
+        blind = frame.picked_up or self._penalty  # the base class tracked this frame's penalty
+        obs = _NO_OBS if blind else pack_observations(frame.percepts, self._table)
+        k = obs.shape[0]
         m = self.model
-        if k:
-            log_likelihood_nb(
-                self.parts, n, obs, self._hough, m.posts, m.crossings, m.lines, m.marks, m.poles,
-                m.cross_grid, m.line_grid, m.geo, self._ll,
-            )  # fmt: skip
-            self.logw[:n] += self._ll[:n]
-        evidence = K.normalise_nb(self.logw, n, self.w)
-        if self.name == "maturing" and k:
-            self._mature(obs, o.dx, o.dy, o.dtheta)
-        elif self.name == "maturing":
-            self._move_candidates(o.dx, o.dy, o.dtheta)
-        K.pose_nb(self.parts, n, self.w, self._prev, p.cluster_radius, 0.5, 0.5, p.jump_weight, self._pose_out)
+        evidence = K.frame_nb(
+            self.parts, n, self._odo, self._motion, self._state, obs, self._hough, m.posts, m.crossings, m.lines,
+            m.marks, m.poles, m.cross_grid, m.line_grid, m.geo, self._ll, self._scratch, self.logw, self.w,
+            self._prev, self._pose_par, self._pose_out,
+        )  # fmt: skip
+        if self.name == "maturing":
+            if k:
+                self._mature(obs, o.dx, o.dy, o.dtheta)
+            else:
+                self._move_candidates(o.dx, o.dy, o.dtheta)
         out = self._pose_out
-        self._prev[:3] = out[:3]
-        self._prev[3] = 1.0
+        lost = bool(out[3] > p.lost_spread)
         pose = RobotPose(
-            float(out[0]), float(out[1]), float(out[2]), out[5:14].reshape(3, 3).copy(), bool(out[3] > p.lost_spread),
+            float(out[0]), float(out[1]), float(out[2]), out[5:14].reshape(3, 3).copy(), lost,
             n, self.parts[:n].copy(), self.w[:n].copy(), self.name,
         )  # fmt: skip
         self.injected = 0
         if k and frame.time - self._last_resample >= p.resample_interval:
             self._last_resample = frame.time
-            self._resample(obs, math.exp(evidence / k), pose.lost)
+            self._resample(obs, math.exp(evidence / k), lost)
         return pose
 
     # -- resampling per variant ------------------------------------------------------------
@@ -247,11 +251,14 @@ class ParticleFilter(Localizer):
             ll = np.empty(nc)
             m = self.model
             cand = np.ascontiguousarray(self._cand)
+            strict = obs.copy()  # pure Gaussians: the floors would make anything look consistent
+            strict[:, O.CONF] = 1.0
+            strict[:, O.FLOOR] = 0.0
             log_likelihood_nb(
-                cand, nc, obs, self._hough, m.posts, m.crossings, m.lines, m.marks, m.poles,
-                m.cross_grid, m.line_grid, m.geo, ll,
+                cand, nc, strict, self._hough, m.posts, m.crossings, m.lines, m.marks, m.poles,
+                m.cross_grid, m.line_grid, m.geo, ll, self._scratch,
             )  # fmt: skip
-            good = np.exp(ll / obs.shape[0]) >= 0.5
+            good = np.exp(ll / obs.shape[0]) >= p.maturing_consistency
             self._cand_count = np.where(good, self._cand_count + 1, 0)
             keep = self._cand_count > 0
             self._cand, self._cand_count = self._cand[keep], self._cand_count[keep]

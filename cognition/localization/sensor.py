@@ -1,4 +1,4 @@
-"""Sensor models of the particle filter: observation packing and the compiled likelihood.
+"""Sensor models of the particle filter and the packing of percepts into observation rows.
 
 Every model compares an observation with the map landmark it is associated with, seen
 from the particle's pose, by CMU's ``point_likelihood`` (Alg. 3): Gaussians of the
@@ -31,7 +31,8 @@ confidence c; everything is accumulated as log-likelihoods. With the Darmstadt o
 (``adaptive``) the distance and bearing sigmas come from each percept's own covariance
 (Darmstadt eqs. 8-15, written into the percepts by the camera model).
 
-Observation rows (:class:`O` columns) are in the robot frame (m, rad).
+Observation rows (:class:`O` columns) are in the robot frame (m, rad); the compiled
+likelihood is in :mod:`cognition.localization.likelihood`.
 """
 
 from __future__ import annotations
@@ -94,6 +95,8 @@ class O(IntEnum):  # noqa: E742 - short column enum used in kernels
 
 
 N_O = len(O)
+_NONE = np.zeros((0, N_O))
+_NONE.setflags(write=False)
 _SQRT12 = math.sqrt(12.0)
 
 
@@ -117,11 +120,14 @@ def pack_observations(percepts: Percepts | None, table: NDArray[np.float64]) -> 
     ``table`` is :func:`sensor_table` of the parameters. Balls and robots are not used;
     lines shorter than the minimum length are dropped.
     """
-    if percepts is None or len(percepts) == 0:
-        return np.zeros((0, N_O))
-    rows = percepts.rows
-    out = np.empty((rows.shape[0], N_O))
-    k = pack_nb(rows, percepts.kinds, table, out)
+    if percepts is None:
+        return _NONE
+    rows, offsets = percepts.table_and_offsets
+    n = int(offsets[-1] - offsets[0])
+    if n == 0:
+        return _NONE
+    out = np.empty((n, N_O))
+    k = pack_nb(rows, offsets, table, out)
     return out[:k]
 
 
@@ -140,12 +146,15 @@ def _sig(tab, base, adaptive, row, x, y):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, error_model="numpy")
-def pack_nb(rows, kinds, tab, out):  # pragma: no cover - compiled
-    """Fill ``out`` with observation rows from percept rows; returns how many."""
+def pack_nb(rows, offsets, tab, out):  # pragma: no cover - compiled
+    """Fill ``out`` with observation rows from percept rows (kind k in rows
+    offsets[k] .. offsets[k + 1]); returns how many."""
     adaptive = tab[0] > 0.5
     k = 0
-    for r in range(rows.shape[0]):
-        kind = kinds[r]
+    kind = 0
+    for r in range(offsets[0], offsets[-1]):
+        while r >= offsets[kind + 1]:
+            kind += 1
         row = rows[r]
         for c in range(out.shape[1]):
             out[k, c] = 0.0
@@ -203,126 +212,3 @@ def pack_nb(rows, kinds, tab, out):  # pragma: no cover - compiled
 def _wrap(a):  # pragma: no cover - compiled
     """Angle wrapped to [-pi, pi)."""
     return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
-
-
-@nb.njit(cache=True, inline="always")
-def _point_q(px, py, c, s, th, mx, my, dist, bear, sr, sb):  # pragma: no cover - compiled
-    """CMU Alg. 3 in log form: -(dd / sr)^2 / 2 - (db / sb)^2 / 2 for the landmark at (mx, my)."""
-    ex, ey = mx - px, my - py
-    de = math.sqrt(ex * ex + ey * ey)
-    dd = (dist - de) / sr
-    db = _wrap(bear - (math.atan2(ey, ex) - th)) / sb
-    return -0.5 * (dd * dd + db * db)
-
-
-@nb.njit(cache=True, inline="always")
-def _cell(gx, gy, geo):  # pragma: no cover - compiled
-    """Grid cell (row, column) of field point (gx, gy), clamped to the grid."""
-    ix = int((gx - geo[0]) / geo[2])
-    iy = int((gy - geo[1]) / geo[2])
-    return min(max(iy, 0), int(geo[4]) - 1), min(max(ix, 0), int(geo[3]) - 1)
-
-
-@nb.njit(cache=True, error_model="numpy")
-def log_likelihood_nb(
-    parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, out
-):  # pragma: no cover - compiled
-    """Sum over observations of each particle's log-likelihood into ``out[:n]``.
-
-    ``parts``: N x 3 particle poses (team frame); ``obs``: K x N_O rows; ``hough``: 1 to use
-    the NimbRo line model (else 0), then its sigmas of rho, theta, u-bar and spread; map
-    arrays from :class:`~cognition.localization.fieldmodel.FieldModel`.
-    """
-    k_obs = obs.shape[0]
-    for i in range(n):
-        px, py, th = parts[i, 0], parts[i, 1], parts[i, 2]
-        c, s = math.cos(th), math.sin(th)
-        total = 0.0
-        for k in range(k_obs):
-            t = int(obs[k, 0])
-            ox, oy = obs[k, 1], obs[k, 2]
-            dist, bear, sr, sb = obs[k, 14], obs[k, 15], obs[k, 5], obs[k, 6]
-            q = -1e4
-            if t == 0:  # goal post: the most likely candidate
-                side, goal = obs[k, 3], obs[k, 4]
-                for j in range(posts.shape[0]):
-                    if (side > 0.5 and posts[j, 2] != side) or (goal > -0.5 and posts[j, 3] != goal):
-                        continue
-                    q = max(q, _point_q(px, py, c, s, th, posts[j, 0], posts[j, 1], dist, bear, sr, sb))
-            elif t == 1:  # crossing of the same kind nearest to the observation's field position
-                gx, gy = px + c * ox - s * oy, py + s * ox + c * oy
-                r, col = _cell(gx, gy, geo)
-                j = cross_grid[int(obs[k, 3]), r, col]
-                if j >= 0:
-                    q = _point_q(px, py, c, s, th, crossings[j, 0], crossings[j, 1], dist, bear, sr, sb)
-                    do = obs[k, 4] + th - crossings[j, 2]
-                    do = _wrap(4.0 * do) / 4.0 if crossings[j, 3] == 2 else _wrap(do)
-                    do /= obs[k, 7]
-                    q -= 0.5 * do * do
-            elif t == 2 and hough[0] < 0.5:  # line: nearest point model (CMU)
-                gdir = obs[k, 3] + th
-                g = gdir - math.pi * math.floor(gdir / math.pi)  # [0, pi)
-                cls = 0 if min(g, math.pi - g) <= 0.25 * math.pi else 1
-                gx, gy = px + c * ox - s * oy, py + s * ox + c * oy
-                r, col = _cell(gx, gy, geo)
-                j = line_grid[cls, r, col]
-                if j >= 0:
-                    x1, y1, x2, y2 = lines[j, 0], lines[j, 1], lines[j, 2], lines[j, 3]
-                    dx, dy = x2 - x1, y2 - y1
-                    u = ((px - x1) * dx + (py - y1) * dy) / (dx * dx + dy * dy)
-                    u = min(max(u, 0.0), 1.0)
-                    q = _point_q(px, py, c, s, th, x1 + u * dx, y1 + u * dy, dist, bear, sr, sb)
-                    do = g - lines[j, 4]
-                    do = (do - math.pi * math.floor(do / math.pi + 0.5)) / obs[k, 7]
-                    q -= 0.5 * do * do
-            elif t == 2:  # line: Hough model (NimbRo eq. 7)
-                gdir = obs[k, 3] + th
-                g = gdir - math.pi * math.floor(gdir / math.pi)
-                cls = 0 if min(g, math.pi - g) <= 0.25 * math.pi else 1
-                best = 1e300
-                for j in range(lines.shape[0]):
-                    if lines[j, 5] != cls:
-                        continue
-                    x1, y1, x2, y2 = lines[j, 0], lines[j, 1], lines[j, 2], lines[j, 3]
-                    nth = lines[j, 4] + 0.5 * math.pi - th  # normal, robot frame
-                    ax, ay = x1 - px, y1 - py
-                    rx, ry = c * ax + s * ay, -s * ax + c * ay  # endpoint 1, robot frame
-                    bx, by = x2 - px, y2 - py
-                    sx, sy = c * bx + s * by, -s * bx + c * by  # endpoint 2, robot frame
-                    rho = math.cos(nth) * rx + math.sin(nth) * ry
-                    if rho < 0.0:
-                        rho, nth = -rho, nth + math.pi
-                    d_rho = (rho - obs[k, 10]) / hough[1]
-                    d_th = _wrap(nth - obs[k, 11]) / hough[2]
-                    m = d_rho * d_rho + d_th * d_th
-                    if m >= best:
-                        continue
-                    sn, cn = math.sin(obs[k, 11]), math.cos(obs[k, 11])
-                    u1, u2 = rx * sn - ry * cn, sx * sn - sy * cn
-                    lo, hi = min(u1, u2), max(u1, u2)
-                    ue = min(max(obs[k, 12], lo), hi)
-                    se = min(obs[k, 13], (hi - lo) / math.sqrt(12.0))
-                    d_u = (ue - obs[k, 12]) / hough[3]
-                    d_s = (se - obs[k, 13]) / hough[4]
-                    best = m
-                    q = -0.5 * (m + d_u * d_u + d_s * d_s)
-            elif t == 3:  # centre circle
-                q = _point_q(px, py, c, s, th, 0.0, 0.0, dist, bear, sr, sb)
-            else:  # penalty mark or corner pole: the nearest one to the observation
-                arr = marks if t == 4 else poles
-                gx, gy = px + c * ox - s * oy, py + s * ox + c * oy
-                bj, bd = -1, 1e300
-                for j in range(arr.shape[0]):
-                    dd = (arr[j, 0] - gx) ** 2 + (arr[j, 1] - gy) ** 2
-                    if dd < bd:
-                        bj, bd = j, dd
-                if bj >= 0:
-                    q = _point_q(px, py, c, s, th, arr[bj, 0], arr[bj, 1], dist, bear, sr, sb)
-            q = max(q, -1e4)
-            conf, floor = obs[k, 8], obs[k, 9]
-            base = floor + (1.0 - conf)
-            if base > 0.0:
-                total += math.log(base + conf * math.exp(q))
-            else:
-                total += q
-        out[i] = total
