@@ -15,8 +15,9 @@ name           shape            content
 posts          4 x 4            x, y, side (1 left, 2 right, seen from the field), goal
                                 (0 own, 1 opponent), in ``Field.goal_posts`` order
 crossings      C x 4            x, y, orientation, kind (0 L, 1 T, 2 X)
-lines          M x 6            x1, y1, x2, y2, direction in [0, pi), orientation class
-                                (0: closer to the x axis, 1: closer to the y axis)
+lines          M x 7            x1, y1, x2, y2, direction in [0, pi), orientation class
+                                (0: closer to the x axis, 1: closer to the y axis),
+                                1 / squared length
 marks          P x 2            penalty marks
 poles          Q x 2            corner poles (KidSize)
 cross_grid     3 x GY x GX      nearest crossing index per kind (-1: no crossing of the kind)
@@ -66,8 +67,8 @@ class FieldModel:
         for s in field.lines:
             d = s.direction
             cls = 0.0 if min(d, math.pi - d) <= math.pi / 4 else 1.0
-            rows.append((s.x1, s.y1, s.x2, s.y2, d, cls))
-        self.lines = np.array(rows).reshape(-1, 6)
+            rows.append((s.x1, s.y1, s.x2, s.y2, d, cls, 1.0 / max(s.length**2, 1e-12)))
+        self.lines = np.array(rows).reshape(-1, 7)
         self.marks = np.array([(m.x, m.y) for m in field.penalty_marks]).reshape(-1, 2)
         self.poles = np.array([(p.x, p.y) for p in field.corner_poles]).reshape(-1, 2)
         hl, hw = field.half_length, field.half_width

@@ -23,6 +23,8 @@ import numba as nb
 _BATCH = 8
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
+_INV_TWO_PI = 1.0 / _TWO_PI
+_INV_PI = 1.0 / math.pi
 
 
 @nb.njit(cache=True, inline="always", fastmath=True)
@@ -52,7 +54,7 @@ def fast_sincos(a):  # pragma: no cover - compiled
 @nb.njit(cache=True, inline="always", fastmath=True)
 def _wrap(a):  # pragma: no cover - compiled
     """Angle wrapped to [-pi, pi)."""
-    return a - _TWO_PI * math.floor((a + _PI) / _TWO_PI)
+    return a - _TWO_PI * math.floor((a + _PI) * _INV_TWO_PI)
 
 
 @nb.njit(cache=True, inline="always", fastmath=True)
@@ -134,7 +136,7 @@ def log_likelihood_nb(
         elif t == 2 and hough[0] < 0.5:  # line: CMU nearest-point model (both classes exist)
             for i in range(n):
                 g = oa + th[i]
-                g -= _PI * math.floor(g / _PI)  # [0, pi)
+                g -= _PI * math.floor(g * _INV_PI)  # [0, pi)
                 cls = 0 if min(g, _PI - g) <= 0.25 * _PI else 1
                 gx = px[i] + cs[i] * ox - sn[i] * oy
                 gy = py[i] + sn[i] * ox + cs[i] * oy
@@ -142,10 +144,10 @@ def log_likelihood_nb(
                 j = line_grid[cls, r, c]
                 x1, y1 = lines[j, 0], lines[j, 1]
                 dx, dy = lines[j, 2] - x1, lines[j, 3] - y1
-                u = min(max(((px[i] - x1) * dx + (py[i] - y1) * dy) / (dx * dx + dy * dy), 0.0), 1.0)
+                u = min(max(((px[i] - x1) * dx + (py[i] - y1) * dy) * lines[j, 6], 0.0), 1.0)
                 v = _q(px[i], py[i], th[i], x1 + u * dx, y1 + u * dy, dist, bear, inv_sr, inv_sb)
                 do = g - lines[j, 4]
-                do = (do - _PI * math.floor(do / _PI + 0.5)) * inv_so
+                do = (do - _PI * math.floor(do * _INV_PI + 0.5)) * inv_so
                 q[i] = v - 0.5 * do * do
         elif t == 2:  # line: NimbRo Hough model (eq. 7)
             for i in range(n):

@@ -36,9 +36,12 @@ resample_interval          0.0 s           resample at most this often (0: on ev
 alpha_slow, alpha_fast     0.005, 0.1      DNT 4.4 (Thrun): averaging rates of w_slow, w_fast
 injection_max              0.3             largest share of particles injected in one update
 reset_probability          0.1             CMU III.D: chance that a resampled particle comes from vision
-reset_alpha                300             CMU Alg. 4: particles are drawn until their total
-                                           weight exceeds alpha / (previous total)
-min_particles              50              the adaptive count never goes below this
+min_particles              150             the adaptive count never goes below
+                                           min(min_particles, particles); the count is
+                                           ceil(floor / evidence per observation), the CMU
+                                           rule that fewer particles are drawn as the weights
+                                           grow (with a floor of 50, 3% of match frames were off
+                                           by > 3 m: too few particles to keep the right mode)
 reset_from_any_feature     False           DNT 4.5: also reset from one random feature of any kind
 maturing_threshold         3               Darmstadt VI: consistent observations a candidate
                                            pose needs before it may replace particles
@@ -110,8 +113,7 @@ class LocalizationParams:
     alpha_fast: float = 0.1
     injection_max: float = 0.3
     reset_probability: float = 0.1
-    reset_alpha: float = 300.0
-    min_particles: int = 50
+    min_particles: int = 150
     reset_from_any_feature: bool = False
     maturing_threshold: int = 3
     maturing_candidates: int = 40
@@ -131,8 +133,6 @@ class LocalizationParams:
                 raise ValueError(f"{o}.{name} must be an integer >= 1, got {v!r}")
         if self.particles > 100_000:
             raise ValueError(f"{o}.particles must be at most 100000, got {self.particles}")
-        if self.min_particles > self.particles:
-            raise ValueError(f"{o}.min_particles ({self.min_particles}) must not exceed particles ({self.particles})")
         check_positive(
             o,
             post_sigma_min=self.post_sigma_min,
@@ -151,7 +151,6 @@ class LocalizationParams:
             hough_sigma_theta=self.hough_sigma_theta,
             hough_sigma_u=self.hough_sigma_u,
             hough_sigma_spread=self.hough_sigma_spread,
-            reset_alpha=self.reset_alpha,
             cluster_radius=self.cluster_radius,
             lost_spread=self.lost_spread,
         )
@@ -198,3 +197,8 @@ class LocalizationParams:
     def from_mapping(cls, data: dict[str, Any]) -> LocalizationParams:
         """Build from a plain mapping (scenario file, JSON); unknown keys are an error."""
         return from_mapping(cls, data)
+
+    @property
+    def floor_particles(self) -> int:
+        """The smallest particle count of the adaptive ``reset`` variant: min(min_particles, particles)."""
+        return min(self.min_particles, self.particles)

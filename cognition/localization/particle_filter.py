@@ -103,7 +103,7 @@ class ParticleFilter(Localizer):
             ]
         )
         self._table = sensor_table(p)
-        self.n = p.min_particles if variant == "reset" else cap
+        self.n = p.floor_particles if variant == "reset" else cap
         self.w_slow = 0.0
         self.w_fast = 0.0
         self.injected = 0
@@ -201,7 +201,8 @@ class ParticleFilter(Localizer):
         n_new = n_old
         share = 0.0
         if v == "reset":
-            n_new = int(min(p.particles, max(p.min_particles, math.ceil(p.min_particles / max(w_avg, 1e-3)))))
+            lo = p.floor_particles
+            n_new = int(min(p.particles, max(lo, math.ceil(lo / max(w_avg, 1e-3)))))
         if v in ("amcl", "reset", "maturing"):
             share = self._share(w_avg)
             if v in ("reset", "maturing") and lost:
@@ -263,7 +264,7 @@ class ParticleFilter(Localizer):
             keep = self._cand_count > 0
             self._cand, self._cand_count = self._cand[keep], self._cand_count[keep]
         room = p.maturing_candidates - self._cand.shape[0]
-        if room > 0:
+        if room >= max(1, p.maturing_candidates // 4):  # refill in batches, not every frame
             fresh = from_vision(self.model, obs, room, True, self.rng)
             self._cand = np.concatenate([self._cand, fresh])
             self._cand_count = np.concatenate([self._cand_count, np.zeros(fresh.shape[0], dtype=np.int64)])
