@@ -17,6 +17,7 @@ bench:
 	python -m benchmarks.bench_physics --json out/bench_physics.json
 	python -m benchmarks.bench_percepts --json out/bench_percepts.json
 	python -m benchmarks.bench_images --json out/bench_images.json
+	python -m benchmarks.bench_localization --json out/bench_localization.json
 
 # torch first, pinned: an unpinned torch pulls a multi-GB CUDA build
 train-install:

@@ -111,7 +111,7 @@ def run(variant: str, frames, seed: int = 0, params: LocalizationParams | None =
 
 
 # -- convergence and tracking ---------------------------------------------------------------
-@pytest.mark.parametrize("variant", ["reset", "maturing"])
+@pytest.mark.parametrize("variant", ["reset"])
 def test_standing_robot_converges_from_uniform_prior(variant):
     ok = 0
     for seed in range(5):
@@ -153,7 +153,10 @@ def test_model_options_track_a_standing_robot(option):
 
 # -- kidnapping -----------------------------------------------------------------------------
 def _recovery_time(poses, truth, t0_index: int, hz: float = 30.0) -> float:
-    d, a = errors(poses, truth)
+    """Seconds after ``t0_index`` until the error stays below 0.5 m and 30 degrees for 1 s,
+    modulo the field's symmetry: with goals of one colour nothing tells a kidnapped robot
+    which half it was put in, so the mirrored pose is as correct as the true one."""
+    d, a = errors(poses, truth, symmetric=True)
     good = (d < 0.5) & (a < math.radians(30))
     hold = int(hz)
     for i in range(t0_index, len(good) - hold):
@@ -278,3 +281,18 @@ def test_bad_input_is_a_clear_error():
         LocalizationParams(line_model="ransac")
     with pytest.raises(ValueError, match="oracle"):
         make_localizer("oracle", SPL).update(_frame(0.0))
+
+
+def test_pose_is_one_mode_of_a_bimodal_cloud_and_lost_tracks_the_spread():
+    loc = make_localizer("lowvar", SPL, rng=np.random.default_rng(3), player_number=1, players_per_team=1)
+    assert isinstance(loc, ParticleFilter)
+    loc.set_particles_around(np.array([[2.0, 1.0, 0.5], [-2.0, -1.0, 0.5 - math.pi]]), sigma_xy=0.05)
+    pose = loc.update(_frame(0.0))
+    modes = np.array([[2.0, 1.0], [-2.0, -1.0]])
+    assert np.min(np.hypot(modes[:, 0] - pose.x, modes[:, 1] - pose.y)) < 0.1  # not the mean (0, 0)
+    assert pose.lost  # two modes 4.5 m apart
+    loc.set_particles_around(np.array([[2.0, 1.0, 0.5]]), sigma_xy=0.05)
+    pose = loc.update(_frame(0.1))
+    assert not pose.lost and math.hypot(pose.x - 2.0, pose.y - 1.0) < 0.05
+    assert pose.particles.shape == (loc.n, 3) and abs(pose.weights.sum() - 1.0) < 1e-9
+    assert pose.covariance.shape == (3, 3) and pose.covariance[0, 0] < 0.01

@@ -136,15 +136,15 @@ class DeadReckoning(Localizer):
     ):  # type: ignore[no-untyped-def]
         super().__init__(field, params, rng, player_number, players_per_team)
         start = placement_poses(field, self.player_number, self.players_per_team, GameStateId.INITIAL, False)[0]
-        self._x, self._y, self._th = (float(v) for v in start)
+        self._x, self._y, self._th = float(start[0]), float(start[1]), float(start[2])
         self._var = np.diag([0.01, 0.01, 0.01])
         self.pose = _pose(self._x, self._y, self._th, self._var.copy(), False, self.name)
 
     def _update(self, frame: SensorFrame, truth: tuple[float, float, float] | None) -> RobotPose:
         o = frame.odometry
         c, s = math.cos(self._th), math.sin(self._th)
-        self._x += c * o.dx - s * o.dy
-        self._y += s * o.dx + c * o.dy
+        self._x += float(c * o.dx - s * o.dy)
+        self._y += float(s * o.dx + c * o.dy)
         self._th = wrap_angle(self._th + o.dtheta)
         p = self.params
         step = math.hypot(o.dx, o.dy)
@@ -155,7 +155,8 @@ class DeadReckoning(Localizer):
 
     def _jump(self, poses: NDArray[np.float64]) -> None:
         d = np.hypot(poses[:, 0] - self._x, poses[:, 1] - self._y)
-        self._x, self._y, self._th = (float(v) for v in poses[int(np.argmin(d))])
+        best = poses[int(np.argmin(d))]
+        self._x, self._y, self._th = float(best[0]), float(best[1]), float(best[2])
         self._var = np.diag([0.01, 0.01, 0.01])
 
     def on_side_switch(self) -> None:

@@ -259,15 +259,25 @@ def frame_nb(
     """One frame up to the pose, in one call: :func:`predict_nb` with ``odo`` (dx, dy,
     dtheta), the observation update (``obs`` may have no rows), :func:`normalise_nb` and
     :func:`pose_nb` with ``pose_par`` (cluster radius, near xy, near theta, jump weight).
-    Updates ``prev`` to the new pose; returns the log evidence of the observations."""
+    Updates ``prev`` to the new pose. Returns the log evidence of the observations (mean
+    likelihood over the prior weights) with and without the likelihood floors."""
     predict_nb(parts, n, odo[0], odo[1], odo[2], motion, state)
     if obs.shape[0] > 0:
         log_likelihood_nb(
             parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch
         )
+    raw_evidence = 0.0
+    if obs.shape[0] > 0:  # log mean over the prior weights of exp(raw), stably
+        m = -1e300
+        for i in range(n):
+            m = max(m, logw[i] + scratch[5, i])
+        total = 0.0
+        for i in range(n):
+            total += math.exp(logw[i] + scratch[5, i] - m)
+        raw_evidence = m + math.log(total / n)
         for i in range(n):
             logw[i] += ll[i]
     evidence = normalise_nb(logw, n, w)
     pose_nb(parts, n, w, prev, pose_par[0], pose_par[1], pose_par[2], pose_par[3], pose_out)
     prev[0], prev[1], prev[2], prev[3] = pose_out[0], pose_out[1], pose_out[2], 1.0
-    return evidence
+    return evidence, raw_evidence

@@ -83,16 +83,19 @@ def log_likelihood_nb(
     ``parts``: N x 3 particle poses (team frame); ``obs``: K x N_O rows
     (:class:`~cognition.localization.sensor.O`); ``hough``: 1 to use the NimbRo line model
     (else 0), then its sigmas of rho, theta, u-bar and spread; map arrays from
-    :class:`~cognition.localization.fieldmodel.FieldModel`; ``scratch``: 5 x N work space.
+    :class:`~cognition.localization.fieldmodel.FieldModel`; ``scratch``: 6 x N work space,
+    whose row 5 receives the log-likelihoods without the floors (for kidnapping detection).
     """
     px = parts[:n, 0]
     py = parts[:n, 1]
     th = parts[:n, 2]
     k_obs = obs.shape[0]
     q, prod, acc, cs, sn = scratch[0, :n], scratch[1, :n], scratch[2, :n], scratch[3, :n], scratch[4, :n]
+    raw = scratch[5, :n]
     for i in range(n):
         prod[i] = 1.0
         acc[i] = 0.0
+        raw[i] = 0.0
     x0, y0, inv_cell, nx, ny = geo[0], geo[1], 1.0 / geo[2], int(geo[3]), int(geo[4])
     need = False
     for k in range(k_obs):
@@ -165,6 +168,8 @@ def log_likelihood_nb(
                 q[i] = -1e4 if bj < 0 else _q(px[i], py[i], th[i], arr[bj, 0], arr[bj, 1], dist, bear, inv_sr, inv_sb)
         conf, floor = obs[k, 8], obs[k, 9]
         base = floor + (1.0 - conf)
+        for i in range(n):
+            raw[i] += max(q[i], -1e4)
         if base > 0.0:
             for i in range(n):
                 prod[i] *= base + conf * math.exp(max(q[i], -1e4))

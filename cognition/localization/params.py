@@ -43,8 +43,10 @@ min_particles              150             the adaptive count never goes below
                                            grow (with a floor of 50, 3% of match frames were off
                                            by > 3 m: too few particles to keep the right mode)
 reset_from_any_feature     False           DNT 4.5: also reset from one random feature of any kind
-maturing_threshold         3               Darmstadt VI: consistent observations a candidate
-                                           pose needs before it may replace particles
+maturing_threshold         7               Darmstadt VI: consecutive consistent frames a candidate
+                                           pose needs before it may replace particles (at 3,
+                                           wrong candidates matured on line-only frames and a
+                                           walking robot's error rose to 1.5 m; 7 gives 0.14 m)
 maturing_candidates        40              candidate poses kept while maturing
 maturing_consistency       0.3             a frame counts as consistent with a candidate when the
                                            per-observation likelihood (no floors) reaches this
@@ -115,7 +117,7 @@ class LocalizationParams:
     reset_probability: float = 0.1
     min_particles: int = 150
     reset_from_any_feature: bool = False
-    maturing_threshold: int = 3
+    maturing_threshold: int = 7
     maturing_candidates: int = 40
     maturing_consistency: float = 0.3
     cluster_radius: float = 0.40

@@ -24,8 +24,12 @@ maturing   low variance; candidate poses generated from single observations are 
 
 The evidence of a frame is the mean likelihood of the particles, taken per observation
 (the K-th root for K observations) so that w_slow and w_fast do not jump with the number of
-features in view. All weights live in log space; after every update they are normalised,
-so an observation that no particle explains leaves finite, uniform weights, never NaN.
+features in view. w_slow and w_fast follow the evidence without the likelihood floors (CMU's
+0.9 for lines, NimbRo's confidence): the floors keep outliers from emptying the filter but
+also hide a kidnapping (a wrong pose would still score at least the floor). The adaptive
+particle count of ``reset`` follows the evidence with the floors. All weights live in log
+space; after every update they are normalised, so an observation that no particle explains
+leaves finite, uniform weights, never NaN.
 """
 
 from __future__ import annotations
@@ -87,7 +91,7 @@ class ParticleFilter(Localizer):
         self.logw = np.zeros(cap)
         self.w = np.full(cap, 1.0 / cap)
         self._ll = np.zeros(cap)
-        self._scratch = np.zeros((5, max(cap, p.maturing_candidates)))
+        self._scratch = np.zeros((6, max(cap, p.maturing_candidates)))
         self._pose_out = np.zeros(14)
         self._pose_par = np.array([p.cluster_radius, 0.5, 0.5, p.jump_weight])
         self._odo = np.zeros(3)
@@ -162,7 +166,7 @@ class ParticleFilter(Localizer):
         obs = _NO_OBS if blind else pack_observations(frame.percepts, self._table)
         k = obs.shape[0]
         m = self.model
-        evidence = K.frame_nb(
+        evidence, raw_evidence = K.frame_nb(
             self.parts, n, self._odo, self._motion, self._state, obs, self._hough, m.posts, m.crossings, m.lines,
             m.marks, m.poles, m.cross_grid, m.line_grid, m.geo, self._ll, self._scratch, self.logw, self.w,
             self._prev, self._pose_par, self._pose_out,
@@ -181,7 +185,7 @@ class ParticleFilter(Localizer):
         self.injected = 0
         if k and frame.time - self._last_resample >= p.resample_interval:
             self._last_resample = frame.time
-            self._resample(obs, math.exp(evidence / k), lost)
+            self._resample(obs, math.exp(evidence / k), math.exp(raw_evidence / k), lost)
         return pose
 
     # -- resampling per variant ------------------------------------------------------------
@@ -194,7 +198,7 @@ class ParticleFilter(Localizer):
             return 0.0
         return min(p.injection_max, max(0.0, 1.0 - self.w_fast / self.w_slow))
 
-    def _resample(self, obs: NDArray[np.float64], w_avg: float, lost: bool) -> None:
+    def _resample(self, obs: NDArray[np.float64], w_avg: float, w_raw: float, lost: bool) -> None:
         p = self.params
         v = self.name
         n_old = self.n
@@ -204,7 +208,7 @@ class ParticleFilter(Localizer):
             lo = p.floor_particles
             n_new = int(min(p.particles, max(lo, math.ceil(lo / max(w_avg, 1e-3)))))
         if v in ("amcl", "reset", "maturing"):
-            share = self._share(w_avg)
+            share = self._share(w_raw)
             if v in ("reset", "maturing") and lost:
                 share = max(share, p.reset_probability)
         low_var = v in ("lowvar", "maturing")
