@@ -25,7 +25,7 @@ import math
 import numba as nb
 import numpy as np
 
-from cognition.localization.likelihood import log_likelihood_nb
+from cognition.localization.likelihood import fast_sincos, log_likelihood_nb
 
 _MUL = np.uint64(0x2545F4914F6CDD1D)
 _S12, _S25, _S27, _S11 = np.uint64(12), np.uint64(25), np.uint64(27), np.uint64(11)
@@ -77,7 +77,7 @@ def predict_nb(parts, n, dx, dy, dth, sig, state):  # pragma: no cover - compile
         mx = dx + sx * rand_n(state)
         my = dy + sy * rand_n(state)
         mt = dth + st * rand_n(state)
-        c, s = math.cos(parts[i, 2]), math.sin(parts[i, 2])
+        s, c = fast_sincos(parts[i, 2])
         parts[i, 0] += c * mx - s * my
         parts[i, 1] += s * mx + c * my
         parts[i, 2] = wrap(parts[i, 2] + mt)
@@ -166,9 +166,11 @@ def pose_nb(parts, n, w, prev, radius, near_xy, near_th, jump_weight, out):  # p
     for i in range(n):
         if best_all < 0 or w[i] > w[best_all]:
             best_all = i
-        near = prev[3] > 0.5 and math.hypot(parts[i, 0] - prev[0], parts[i, 1] - prev[1]) <= near_xy
+        ex, ey = parts[i, 0] - prev[0], parts[i, 1] - prev[1]
+        near = prev[3] > 0.5 and ex * ex + ey * ey <= near_xy * near_xy
         if near and abs(wrap(parts[i, 2] - prev[2])) <= near_th and (best_near < 0 or w[i] > w[best_near]):
             best_near = i
+    r2 = radius * radius
     for attempt in range(2):
         seed = best_near if (attempt == 0 and best_near >= 0) else best_all
         sx, sy = parts[seed, 0], parts[seed, 1]
@@ -178,12 +180,14 @@ def pose_nb(parts, n, w, prev, radius, near_xy, near_th, jump_weight, out):  # p
         mc = 0.0
         ms = 0.0
         for i in range(n):
-            if math.hypot(parts[i, 0] - sx, parts[i, 1] - sy) <= radius:
+            ex, ey = parts[i, 0] - sx, parts[i, 1] - sy
+            if ex * ex + ey * ey <= r2:
                 cw += w[i]
                 mx += w[i] * parts[i, 0]
                 my += w[i] * parts[i, 1]
-                mc += w[i] * math.cos(parts[i, 2])
-                ms += w[i] * math.sin(parts[i, 2])
+                sn, cs = fast_sincos(parts[i, 2])
+                mc += w[i] * cs
+                ms += w[i] * sn
         if cw >= jump_weight or seed == best_all:
             break
     x, y, th = mx / cw, my / cw, math.atan2(ms, mc)

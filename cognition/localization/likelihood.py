@@ -1,13 +1,14 @@
 """The compiled observation likelihood of every particle (the models of :mod:`cognition.localization.sensor`).
 
 Loop order is observation outside, particles inside, and each observation type has its
-own particle loop, so that the loops for point landmarks are branch-free and the compiler
-vectorizes them. Bearings use :func:`fast_atan2`, a polynomial with an error below 2e-5 rad
-(far below any bearing sigma), and rotations :func:`fast_sincos`, because a libm call per
-particle and observation would dominate the cost and stop vectorization. The confidence floor of NimbRo
-eq. 9 needs the likelihood itself: the factors (floor + c exp(q)) of a particle are
-multiplied in linear space (each is at least the floor, so a few cannot underflow) and
-turned into a logarithm every :data:`_BATCH` observations.
+own particle loops: a scalar loop gathers the associated map landmark of every particle,
+then a branch-free loop does the arithmetic, which the compiler vectorizes. Bearings use
+:func:`fast_atan2`, a polynomial with an error below 2e-5 rad (far below any bearing
+sigma), and rotations :func:`fast_sincos`: a libm call per particle and observation would
+dominate the cost and stop vectorization. The confidence floor of NimbRo eq. 9 needs the
+likelihood itself: the factors (floor + c exp(q)) of a particle are multiplied in linear
+space (each is at least the floor, so a few cannot underflow) and turned into a logarithm
+every :data:`_BATCH` observations.
 
 The per-observation log-likelihood q follows CMU Alg. 3:
 q = -((d_obs - d_exp) / sigma_d)^2 / 2 - (bearing difference / sigma_b)^2 / 2 (plus the
@@ -83,7 +84,7 @@ def log_likelihood_nb(
     ``parts``: N x 3 particle poses (team frame); ``obs``: K x N_O rows
     (:class:`~cognition.localization.sensor.O`); ``hough``: 1 to use the NimbRo line model
     (else 0), then its sigmas of rho, theta, u-bar and spread; map arrays from
-    :class:`~cognition.localization.fieldmodel.FieldModel`; ``scratch``: 6 x N work space,
+    :class:`~cognition.localization.fieldmodel.FieldModel`; ``scratch``: 10 x N work space,
     whose row 5 receives the log-likelihoods without the floors (for kidnapping detection).
     """
     px = parts[:n, 0]
@@ -92,6 +93,7 @@ def log_likelihood_nb(
     k_obs = obs.shape[0]
     q, prod, acc, cs, sn = scratch[0, :n], scratch[1, :n], scratch[2, :n], scratch[3, :n], scratch[4, :n]
     raw = scratch[5, :n]
+    lx, ly, lo, lf = scratch[6, :n], scratch[7, :n], scratch[8, :n], scratch[9, :n]
     for i in range(n):
         prod[i] = 1.0
         acc[i] = 0.0
@@ -126,18 +128,20 @@ def log_likelihood_nb(
             grid = cross_grid[int(oa)]
             if grid[0, 0] < 0:  # no crossing of this kind on the field
                 q[:] = -1e4
-            for i in range(n if grid[0, 0] >= 0 else 0):  # branch-free body
-                gx = px[i] + cs[i] * ox - sn[i] * oy
-                gy = py[i] + sn[i] * ox + cs[i] * oy
-                r, c = _cell(gx, gy, x0, y0, inv_cell, nx, ny)
-                j = grid[r, c]
-                v = _q(px[i], py[i], th[i], crossings[j, 0], crossings[j, 1], dist, bear, inv_sr, inv_sb)
-                do = ob + th[i] - crossings[j, 2]
-                do = _wrap(4.0 * do) * 0.25 if crossings[j, 3] == 2 else _wrap(do)
-                do *= inv_so
-                q[i] = v - 0.5 * do * do
+            else:
+                for i in range(n):  # gathers (scalar): the associated crossing
+                    gx = px[i] + cs[i] * ox - sn[i] * oy
+                    gy = py[i] + sn[i] * ox + cs[i] * oy
+                    r, c = _cell(gx, gy, x0, y0, inv_cell, nx, ny)
+                    j = grid[r, c]
+                    lx[i], ly[i], lo[i] = crossings[j, 0], crossings[j, 1], crossings[j, 2]
+                    lf[i] = 4.0 if crossings[j, 3] == 2 else 1.0  # X: orientation modulo 90 degrees
+                for i in range(n):  # arithmetic (vectorized)
+                    v = _q(px[i], py[i], th[i], lx[i], ly[i], dist, bear, inv_sr, inv_sb)
+                    do = _wrap(lf[i] * (ob + th[i] - lo[i])) / lf[i] * inv_so
+                    q[i] = v - 0.5 * do * do
         elif t == 2 and hough[0] < 0.5:  # line: CMU nearest-point model (both classes exist)
-            for i in range(n):
+            for i in range(n):  # gathers (scalar): the associated line's point nearest the particle
                 g = oa + th[i]
                 g -= _PI * math.floor(g * _INV_PI)  # [0, pi)
                 cls = 0 if min(g, _PI - g) <= 0.25 * _PI else 1
@@ -148,8 +152,11 @@ def log_likelihood_nb(
                 x1, y1 = lines[j, 0], lines[j, 1]
                 dx, dy = lines[j, 2] - x1, lines[j, 3] - y1
                 u = min(max(((px[i] - x1) * dx + (py[i] - y1) * dy) * lines[j, 6], 0.0), 1.0)
-                v = _q(px[i], py[i], th[i], x1 + u * dx, y1 + u * dy, dist, bear, inv_sr, inv_sb)
-                do = g - lines[j, 4]
+                lx[i], ly[i], lo[i] = x1 + u * dx, y1 + u * dy, lines[j, 4]
+            for i in range(n):  # arithmetic (vectorized)
+                v = _q(px[i], py[i], th[i], lx[i], ly[i], dist, bear, inv_sr, inv_sb)
+                g = oa + th[i]
+                do = g - _PI * math.floor(g * _INV_PI) - lo[i]
                 do = (do - _PI * math.floor(do * _INV_PI + 0.5)) * inv_so
                 q[i] = v - 0.5 * do * do
         elif t == 2:  # line: NimbRo Hough model (eq. 7)

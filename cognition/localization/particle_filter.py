@@ -91,7 +91,7 @@ class ParticleFilter(Localizer):
         self.logw = np.zeros(cap)
         self.w = np.full(cap, 1.0 / cap)
         self._ll = np.zeros(cap)
-        self._scratch = np.zeros((6, max(cap, p.maturing_candidates)))
+        self._scratch = np.zeros((10, max(cap, p.maturing_candidates)))
         self._pose_out = np.zeros(14)
         self._pose_par = np.array([p.cluster_radius, 0.5, 0.5, p.jump_weight])
         self._odo = np.zeros(3)
