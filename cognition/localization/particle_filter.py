@@ -44,7 +44,6 @@ from cognition.gamestate import GameStateId
 from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
-from cognition.localization.likelihood import log_likelihood_nb
 from cognition.localization.params import LocalizationParams
 from cognition.localization.places import placement_poses
 from cognition.localization.resetting import from_vision
@@ -259,7 +258,7 @@ class ParticleFilter(Localizer):
             strict = obs.copy()  # pure Gaussians: the floors would make anything look consistent
             strict[:, O.CONF] = 1.0
             strict[:, O.FLOOR] = 0.0
-            log_likelihood_nb(
+            K.log_likelihood_nb(
                 cand, nc, strict, self._hough, m.posts, m.crossings, m.lines, m.marks, m.poles,
                 m.cross_grid, m.line_grid, m.geo, ll, self._scratch,
             )  # fmt: skip

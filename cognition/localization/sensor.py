@@ -32,7 +32,7 @@ confidence c; everything is accumulated as log-likelihoods. With the Darmstadt o
 (Darmstadt eqs. 8-15, written into the percepts by the camera model).
 
 Observation rows (:class:`O` columns) are in the robot frame (m, rad); the compiled
-likelihood is in :mod:`cognition.localization.likelihood`.
+likelihood is in :mod:`cognition.localization.kernels`.
 """
 
 from __future__ import annotations
