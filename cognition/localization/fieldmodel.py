@@ -93,7 +93,3 @@ class FieldModel:
                 self.line_grid[k] = idx[np.argmin(d, axis=0)]
         for a in (self.posts, self.crossings, self.lines, self.marks, self.poles, self.cross_grid, self.line_grid):
             a.setflags(write=False)
-
-    def inside(self, x: NDArray[np.float64], y: NDArray[np.float64], margin: float = 0.0) -> NDArray[np.bool_]:
-        """Whether points lie within the field lines grown by ``margin`` (m)."""
-        return (np.abs(x) <= self.field.half_length + margin) & (np.abs(y) <= self.field.half_width + margin)
