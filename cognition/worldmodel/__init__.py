@@ -1,5 +1,12 @@
 """The world model: what a robot believes about the ball, the goals, obstacles and its team.
 
-Built up by the world-model issue; so far :mod:`cognition.worldmodel.messages` (the team
-message) is in place.
+Built up by the world-model issue. In place so far:
+
+=====================================  ===================================================
+module                                 content
+=====================================  ===================================================
+:mod:`cognition.worldmodel.messages`   the team message (58 bytes), checked on receipt
+:mod:`cognition.worldmodel.kalman_ball` functional core of the Darmstadt Kalman ball
+:mod:`cognition.worldmodel.goal`       goal pose from a scan's two posts (CMU IV.B)
+=====================================  ===================================================
 """

@@ -1,0 +1,143 @@
+"""Goal model from the two posts seen during a head scan (CMU paper, Sec. IV.B).
+
+Vision's bearings to goal posts are accurate; its distances are not (a post may be reported
+at 1.5 or 2 times its distance), but a scale error is common to both posts of one scan. So
+the goal is rebuilt from the two bearings and the *ratio* of the distances: with the posts
+at d_L u_L and d_R u_R (u unit vectors along the bearings, robot frame) and d_L = q d_R,
+the known post separation w fixes d_R = w / |q u_L - u_R|.
+
+:class:`GoalModel` keeps post detections during a scan, carried along with the odometry, and
+merges detections of the same post (bearing within ``merge_angle``) into tracks whose
+confidence grows with every detection. The two most confident tracks are the posts; the
+one with the larger bearing is the left post. Positions in the **robot frame** (m, rad).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.params import check_positive
+from cognition.percepts import Percepts
+
+
+@dataclass(frozen=True)
+class GoalEstimate:
+    """The goal as the robot sees it (robot frame)."""
+
+    centre_x: float
+    """Goal centre between the posts (m)."""
+    centre_y: float
+    left: tuple[float, float]
+    """Left post (m)."""
+    right: tuple[float, float]
+    """Right post (m)."""
+    facing: float
+    """Direction from the goal centre into the field (rad): the goal's normal toward the robot."""
+    confidence: float
+    """Of the weaker post track, in [0, 1]."""
+
+
+def goal_from_posts(
+    bearing_left: float, distance_left: float, bearing_right: float, distance_right: float, separation: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Left and right post positions (robot frame, m) from accurate bearings (rad) and the
+    ratio of the measured distances, scaled so that the posts are ``separation`` m apart."""
+    if not (distance_left > 0 and distance_right > 0 and separation > 0):
+        raise ValueError("post distances and separation must be > 0")
+    ul = np.array([math.cos(bearing_left), math.sin(bearing_left)])
+    ur = np.array([math.cos(bearing_right), math.sin(bearing_right)])
+    q = distance_left / distance_right
+    gap = float(np.linalg.norm(q * ul - ur))
+    if gap < 1e-9:
+        raise ValueError("the two posts lie on one bearing; the goal is not determined")
+    d_right = separation / gap
+    return q * d_right * ul, d_right * ur
+
+
+@dataclass(frozen=True)
+class GoalModelParams:
+    """Tuning of the goal model."""
+
+    merge_angle: float = math.radians(5.0)
+    """Detections within this bearing of a track belong to it (rad)."""
+    confidence_gain: float = 0.25
+    """Confidence a track gains per detection (saturates at 1)."""
+    decay_per_second: float = 0.2
+    """Confidence lost per second (the scan ages)."""
+
+    def __post_init__(self) -> None:
+        check_positive(
+            "GoalModelParams",
+            merge_angle=self.merge_angle,
+            confidence_gain=self.confidence_gain,
+            decay_per_second=self.decay_per_second,
+        )
+
+
+class GoalModel:
+    """Goal-post tracks over a scan; :meth:`estimate` gives the goal (module docstring)."""
+
+    def __init__(self, separation: float, params: GoalModelParams | None = None):
+        check_positive("GoalModel", separation=separation)
+        self.separation = separation
+        self.params = params or GoalModelParams()
+        self._tracks: list[list[float]] = []  # x, y, confidence, mean distance-scale samples
+
+    def move_robot(self, dx: float, dy: float, dtheta: float, dt: float) -> None:
+        """Carry the tracks into the new robot frame and age them."""
+        c, s = math.cos(dtheta), math.sin(dtheta)
+        keep = []
+        for t in self._tracks:
+            x, y = t[0] - dx, t[1] - dy
+            t[0], t[1] = c * x + s * y, -s * x + c * y
+            t[2] -= self.params.decay_per_second * dt
+            if t[2] > 0.0:
+                keep.append(t)
+        self._tracks = keep
+
+    def add(self, x: float, y: float) -> None:
+        """One post detection at (x, y) (robot frame, m)."""
+        b = math.atan2(y, x)
+        for t in self._tracks:
+            if abs(math.remainder(math.atan2(t[1], t[0]) - b, 2 * math.pi)) <= self.params.merge_angle:
+                n = t[3]
+                t[0], t[1] = (t[0] * n + x) / (n + 1), (t[1] * n + y) / (n + 1)
+                t[2] = min(1.0, t[2] + self.params.confidence_gain)
+                t[3] = n + 1
+                return
+        self._tracks.append([x, y, self.params.confidence_gain, 1.0])
+
+    def add_percepts(self, percepts: Percepts | None) -> None:
+        """All post detections of one image."""
+        if percepts is not None:
+            for x, y in percepts.posts.xy:
+                self.add(float(x), float(y))
+
+    def estimate(self) -> GoalEstimate | None:
+        """The goal from the two most confident post tracks, or ``None`` with fewer than two."""
+        if len(self._tracks) < 2:
+            return None
+        a, b = sorted(self._tracks, key=lambda t: -t[2])[:2]
+        ba, bb = math.atan2(a[1], a[0]), math.atan2(b[1], b[0])
+        left, right = (a, b) if math.remainder(ba - bb, 2 * math.pi) > 0 else (b, a)
+        bl, br = math.atan2(left[1], left[0]), math.atan2(right[1], right[0])
+        try:
+            pl, pr = goal_from_posts(
+                bl, math.hypot(left[0], left[1]), br, math.hypot(right[0], right[1]), self.separation
+            )
+        except ValueError:
+            return None
+        centre = 0.5 * (pl + pr)
+        along = pr - pl
+        normal = np.array([-along[1], along[0]])  # perpendicular to the goal line
+        if normal @ -centre < 0.0:  # point it toward the robot's side of the goal line
+            normal = -normal
+        facing = math.atan2(normal[1], normal[0])
+        return GoalEstimate(
+            float(centre[0]), float(centre[1]), (float(pl[0]), float(pl[1])), (float(pr[0]), float(pr[1])),
+            facing, min(left[2], right[2]),
+        )  # fmt: skip
