@@ -246,3 +246,39 @@ class RobotPose:
     def position_std(self) -> float:
         """sqrt of the trace of the position covariance (m)."""
         return float(np.sqrt(max(0.0, self.covariance[0, 0] + self.covariance[1, 1])))
+
+
+BallLevel = Literal["valid", "suspicious", "invalid"]
+"""CMU IV.A's three confidence levels of a ball belief."""
+
+
+@dataclass(frozen=True)
+class BallModel:
+    """What the robot believes about the ball.
+
+    ``x, y, vx, vy`` are in the **robot frame** (m, m/s); ``field_x, field_y`` in the team
+    frame via the pose estimate (NaN without one). ``covariance`` is the 4 x 4 covariance of
+    (x, y, vx, vy). ``age`` is the time since the own camera last saw the ball (s);
+    ``source`` says what the latest update came from.
+    """
+
+    x: float
+    y: float
+    vx: float
+    vy: float
+    covariance: NDArray[np.float64]
+    field_x: float
+    field_y: float
+    age: float
+    level: BallLevel
+    source: Literal["vision", "team", "prediction", "none"]
+
+    @property
+    def distance(self) -> float:
+        """Distance from the robot (m)."""
+        return float(math.hypot(self.x, self.y))
+
+    @property
+    def bearing(self) -> float:
+        """Direction from the robot (rad, robot frame)."""
+        return float(math.atan2(self.y, self.x))

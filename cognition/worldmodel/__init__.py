@@ -2,11 +2,12 @@
 
 Built up by the world-model issue. In place so far:
 
-=====================================  ===================================================
-module                                 content
-=====================================  ===================================================
-:mod:`cognition.worldmodel.messages`   the team message (58 bytes), checked on receipt
-:mod:`cognition.worldmodel.kalman_ball` functional core of the Darmstadt Kalman ball
-:mod:`cognition.worldmodel.goal`       goal pose from a scan's two posts (CMU IV.B)
-=====================================  ===================================================
+========================================  ================================================
+module                                    content
+========================================  ================================================
+:mod:`cognition.worldmodel.messages`      the team message (58 bytes), checked on receipt
+:mod:`cognition.worldmodel.kalman_ball`   functional core of the Darmstadt Kalman ball
+:mod:`cognition.worldmodel.ball`          the Kalman ball module (percepts, odometry, team)
+:mod:`cognition.worldmodel.goal`          goal pose from a scan's two posts (CMU IV.B)
+========================================  ================================================
 """

@@ -5,7 +5,7 @@ vx, vy in m/s; +x forward, +y left), so the estimate does not suffer from errors
 pose. The functional core:
 
 * :func:`predict`: the ball rolls with a constant deceleration (rolling friction) and a
-  random acceleration as process noise;
+  white random acceleration as process noise;
 * :func:`move_robot`: the state is carried into the new robot frame with the odometry
   (dx, dy, dtheta in the previous robot frame);
 * :func:`camera_measurement`: the measurement and its covariance from one ball percept.
@@ -43,8 +43,10 @@ class KalmanBallParams:
 
     rolling_deceleration: float = 1.0
     """Deceleration of a rolling ball (m/s^2; the simulator's turf uses 1.0)."""
-    accel_sigma: float = 0.5
-    """Process noise: sd of a random acceleration of the ball (m/s^2)."""
+    accel_sigma: float = 0.3
+    """Process noise: a white random acceleration of spectral density accel_sigma^2
+    (m^2/s^3), independent of the frame rate; the position variance of an unseen ball grows
+    as accel_sigma^2 t^3 / 3 (suspicious after about 2 s, invalid after about 4 s)."""
     size_sigma_px: float = 0.6
     """sd of the ball's measured image radius (px), for the size-based distance."""
     sigma_mode: str = "adaptive"
@@ -70,7 +72,10 @@ class KalmanBallParams:
 def predict(
     x: NDArray[np.float64], p: NDArray[np.float64], dt: float, deceleration: float, accel_sigma: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Roll the ball for ``dt`` s: speed falls by ``deceleration`` dt (not below 0)."""
+    """Roll the ball for ``dt`` s: speed falls by ``deceleration`` dt (not below 0).
+
+    The mean follows the friction; the covariance is propagated as for constant velocity,
+    so that the velocity of a resting ball stays uncertain (it may be kicked any time)."""
     speed = math.hypot(x[2], x[3])
     new_speed = max(0.0, speed - deceleration * dt)
     k = new_speed / speed if speed > 1e-9 else 0.0
@@ -80,8 +85,13 @@ def predict(
     f = np.eye(4)
     f[0, 2] = f[1, 3] = travel
     f[2, 2] = f[3, 3] = k
-    g = np.array([[0.5 * dt * dt, 0.0], [0.0, 0.5 * dt * dt], [dt, 0.0], [0.0, dt]])
-    return f @ x, f @ p @ f.T + (accel_sigma**2) * (g @ g.T)
+    fc = np.eye(4)  # friction slows the mean, not the uncertainty: a resting ball may be kicked
+    fc[0, 2] = fc[1, 3] = dt
+    q = np.zeros((4, 4))  # continuous white acceleration of spectral density accel_sigma^2
+    q[0, 0] = q[1, 1] = dt**3 / 3.0
+    q[0, 2] = q[2, 0] = q[1, 3] = q[3, 1] = dt**2 / 2.0
+    q[2, 2] = q[3, 3] = dt
+    return f @ x, fc @ p @ fc.T + (accel_sigma**2) * q
 
 
 def move_robot(

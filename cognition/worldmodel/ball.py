@@ -1,0 +1,174 @@
+"""The Kalman ball as a module: percepts, odometry and teammates in, a :class:`BallModel` out.
+
+Wraps the functional core of :mod:`cognition.worldmodel.kalman_ball` (Darmstadt paper,
+Sec. V) for one robot. Each frame:
+
+1. predict over the time since the previous frame (rolling friction), then carry the state
+   into the new robot frame with the odometry;
+2. camera update from the ball percept nearest to the prediction (Mahalanobis gate: a
+   percept far outside it is rejected, and :data:`RESTART_AFTER` rejections in a row
+   restart the filter at the latest one: the ball was moved); sigmas from the
+   percept (``adaptive``) or fixed angles, size-based distance fused (eqs. 8-15);
+3. without an own sighting, once the own position variance exceeds ``team_threshold``:
+   update from the teammate whose ball estimate is least uncertain, converted from the team
+   frame with the own pose estimate, its covariance multiplied by ``team_inflation``
+   (Darmstadt V.B).
+
+Levels (CMU IV.A): ``valid`` while the position sd is below ``valid_sigma``, ``suspicious``
+below ``suspicious_sigma``, else ``invalid``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.percepts import Col, Percepts
+from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
+from cognition.worldmodel.kalman_ball import (
+    KalmanBallParams,
+    camera_measurement,
+    move_robot,
+    predict,
+    size_distance,
+    update,
+)
+from cognition.worldmodel.messages import TeamMessage
+
+GATE = 25.0
+"""Mahalanobis distance squared beyond which a percept is rejected."""
+RESTART_AFTER = 5
+"""Consecutive rejected percepts after which the filter restarts at the latest (the ball moved)."""
+VALID_SIGMA = 0.5
+"""Position sd (m) below which the ball is ``valid``."""
+SUSPICIOUS_SIGMA = 1.5
+"""Position sd (m) below which the ball is ``suspicious`` (else ``invalid``)."""
+_TEAM_VELOCITY_VAR = 1.0  # (m/s)^2: the message carries no velocity covariance
+
+
+class KalmanBallModel:
+    """One robot's Kalman ball (module docstring); ``ball_radius`` in m from the field map."""
+
+    def __init__(self, ball_radius: float, params: KalmanBallParams | None = None):
+        self.params = params or KalmanBallParams()
+        self.ball_radius = float(ball_radius)
+        self.x: NDArray[np.float64] | None = None
+        self.p: NDArray[np.float64] | None = None
+        self.last_seen = -math.inf
+        self.time: float | None = None
+        self.source = "none"
+        self._rejected = 0
+
+    def update(self, frame: SensorFrame, pose: RobotPose | None = None, team: Sequence[TeamMessage] = ()) -> BallModel:
+        """One frame (robot frame results; ``pose`` only for field coordinates and team balls)."""
+        prm = self.params
+        dt = 0.0 if self.time is None else max(0.0, frame.time - self.time)
+        self.time = frame.time
+        if self.x is not None and self.p is not None:
+            self.x, self.p = predict(self.x, self.p, dt, prm.rolling_deceleration, prm.accel_sigma)
+            o = frame.odometry
+            self.x, self.p = move_robot(self.x, self.p, o.dx, o.dy, o.dtheta)
+            self.source = "prediction"
+        if self._camera(frame.percepts):
+            self.last_seen = frame.time
+            self.source = "vision"
+        elif pose is not None and team and self._needs_team():
+            self._team(pose, team)
+        return self._output(pose)
+
+    # -- updates ---------------------------------------------------------------------------
+    def _camera(self, percepts: Percepts | None) -> bool:
+        if percepts is None or percepts.count(5) == 0 or percepts.camera is None:
+            return False
+        cam = percepts.camera
+        rows = percepts.ball.rows
+        height = cam.height - self.ball_radius
+        focal = 0.5 * (cam.spec.fx + cam.spec.fy)
+        foot = np.asarray(cam.position[:2], dtype=np.float64)  # distances are from the camera's foot
+        best = None
+        for row in rows:
+            z, r = self._measurement(row, height, focal, foot)
+            if self.x is None or self.p is None:
+                return self._start(z, r)
+            innov = z - self.x[:2]
+            m2 = float(innov @ np.linalg.solve(self.p[:2, :2] + r, innov))
+            if best is None or m2 < best[0]:
+                best = (m2, z, r)
+        assert best is not None
+        m2, z, r = best
+        if m2 > GATE:  # an outlier, or the ball was moved: restart after RESTART_AFTER in a row
+            self._rejected += 1
+            if self._rejected >= RESTART_AFTER:
+                self._rejected = 0
+                return self._start(z, r)
+            return False
+        self._rejected = 0
+        assert self.x is not None and self.p is not None
+        self.x, self.p = update(self.x, self.p, z, r)
+        return True
+
+    def _measurement(
+        self, row: NDArray[np.float64], height: float, focal: float, foot: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Eqs. 8-15 about the point below the camera (robot frame, m), shifted back."""
+        prm = self.params
+        if prm.sigma_mode == "adaptive":
+            sa, sb = float(row[Col.SIGMA_ALPHA]), float(row[Col.SIGMA_BETA])
+        else:
+            sa = sb = prm.fixed_sigma
+        d_s, sd_s = size_distance(float(row[Col.RADIUS_PX]), focal, self.ball_radius, height)
+        bx, by = float(row[Col.X]) - foot[0], float(row[Col.Y]) - foot[1]
+        z, r = camera_measurement(bx, by, height, sa, sb, d_s, sd_s * prm.size_sigma_px)
+        return z + foot, r
+
+    def _start(self, z: NDArray[np.float64], r: NDArray[np.float64]) -> bool:
+        v2 = self.params.initial_velocity_sigma**2
+        self.x = np.array([z[0], z[1], 0.0, 0.0])
+        self.p = np.zeros((4, 4))
+        self.p[:2, :2] = r
+        self.p[2, 2] = self.p[3, 3] = v2
+        return True
+
+    def _needs_team(self) -> bool:
+        return self.p is None or float(np.trace(self.p[:2, :2])) > self.params.team_threshold
+
+    def _team(self, pose: RobotPose, team: Sequence[TeamMessage]) -> None:
+        mates = [m for m in team if m.ball_valid and not m.penalized]
+        if not mates:
+            return
+        best = min(mates, key=lambda m: m.ball_cov_xx + m.ball_cov_yy)
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        rot = np.array([[c, s], [-s, c]])  # team frame -> robot frame
+        z = np.zeros(4)
+        z[:2] = rot @ np.array([best.ball_x - pose.x, best.ball_y - pose.y])
+        z[2:] = rot @ np.array([best.ball_vx, best.ball_vy])
+        cov = np.array([[best.ball_cov_xx, best.ball_cov_xy], [best.ball_cov_xy, best.ball_cov_yy]])
+        r = np.zeros((4, 4))
+        r[:2, :2] = rot @ cov @ rot.T + pose.covariance[:2, :2]
+        r[2:, 2:] = np.eye(2) * _TEAM_VELOCITY_VAR
+        r *= self.params.team_inflation
+        if self.x is None or self.p is None:
+            self.x, self.p = z, r
+        else:
+            self.x, self.p = update(self.x, self.p, z, r)
+        self.source = "team"
+
+    # -- output ----------------------------------------------------------------------------
+    def _output(self, pose: RobotPose | None) -> BallModel:
+        if self.x is None or self.p is None:
+            return BallModel(0.0, 0.0, 0.0, 0.0, np.eye(4) * 1e6, math.nan, math.nan, math.inf, "invalid", "none")
+        sd = math.sqrt(max(0.0, 0.5 * float(np.trace(self.p[:2, :2]))))
+        level: BallLevel = "valid" if sd < VALID_SIGMA else ("suspicious" if sd < SUSPICIOUS_SIGMA else "invalid")
+        fx = fy = math.nan
+        if pose is not None:
+            c, s = math.cos(pose.theta), math.sin(pose.theta)
+            fx = pose.x + c * self.x[0] - s * self.x[1]
+            fy = pose.y + s * self.x[0] + c * self.x[1]
+        age = (self.time or 0.0) - self.last_seen
+        return BallModel(
+            float(self.x[0]), float(self.x[1]), float(self.x[2]), float(self.x[3]), self.p.copy(), fx, fy, age,
+            level, self.source,  # type: ignore[arg-type]
+        )  # fmt: skip
