@@ -8,6 +8,7 @@ module                                    content
 :mod:`cognition.worldmodel.messages`      the team message (58 bytes), checked on receipt
 :mod:`cognition.worldmodel.kalman_ball`   functional core of the Darmstadt Kalman ball
 :mod:`cognition.worldmodel.ball`          the Kalman ball module (percepts, odometry, team)
+:mod:`cognition.worldmodel.hypotheses`    multi-hypothesis ball with CMU's three levels
 :mod:`cognition.worldmodel.goal`          goal pose from a scan's two posts (CMU IV.B)
 ========================================  ================================================
 """

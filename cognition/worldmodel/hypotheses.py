@@ -1,0 +1,176 @@
+"""Multi-hypothesis ball with confidences (CMU paper, Sec. IV.A).
+
+A visible ball overrides everything: it becomes the one own hypothesis with confidence 1.
+Otherwise the model keeps ranked hypotheses, each with a confidence in [0, 1]:
+
+* **own** hypotheses (from the robot's vision) live in the **robot frame** and are moved
+  by the odometry; their confidence decays with time and with the robot's own walking
+  and turning (odometry noise makes the remembered place less certain);
+* **team** hypotheses (from teammates' messages) live in the **team frame** and do not
+  decay with the robot's walking, only with time;
+* **negative information**: while a hypothesis lies in the camera's view (projected into
+  the current image, within ``view_distance``) and no ball is seen, its confidence falls
+  fast (``negative_per_second``).
+
+The best hypothesis is thresholded into CMU's three levels: ``valid`` (confidence at
+least ``valid_level``), ``suspicious`` (at least ``suspicious_level``: the behavior should
+look there, the model's active-gaze request) and ``invalid``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from cognition.params import check_non_negative, check_positive, check_probability
+from cognition.percepts import Percepts
+from cognition.representations import BallLevel, RobotPose, SensorFrame
+from cognition.worldmodel.messages import TeamMessage
+
+
+@dataclass(frozen=True)
+class HypothesisParams:
+    """Confidence dynamics (per second, per metre walked, per radian turned)."""
+
+    decay_per_second: float = 0.08
+    walk_decay_per_metre: float = 0.3
+    turn_decay_per_radian: float = 0.1
+    team_decay_per_second: float = 0.08
+    negative_per_second: float = 2.0
+    view_distance: float = 4.0
+    """Only hypotheses nearer than this (m) count as in view (a far ball may be missed)."""
+    valid_level: float = 0.6
+    suspicious_level: float = 0.3
+    merge_distance: float = 0.3
+    """Team hypotheses closer than this (m) to an own one reinforce it instead."""
+    max_team_age: float = 2.0
+    """Teammates' balls older than this (s since they saw it) are ignored."""
+
+    def __post_init__(self) -> None:
+        o = "HypothesisParams"
+        check_non_negative(o, decay_per_second=self.decay_per_second, walk_decay_per_metre=self.walk_decay_per_metre,
+                           turn_decay_per_radian=self.turn_decay_per_radian,
+                           team_decay_per_second=self.team_decay_per_second,
+                           negative_per_second=self.negative_per_second, max_team_age=self.max_team_age)  # fmt: skip
+        check_positive(o, view_distance=self.view_distance, merge_distance=self.merge_distance)
+        check_probability(o, valid_level=self.valid_level, suspicious_level=self.suspicious_level)
+        if self.suspicious_level > self.valid_level:
+            raise ValueError(f"{o}: suspicious_level must not exceed valid_level")
+
+
+@dataclass
+class Hypothesis:
+    """One possible ball position: robot frame for ``own``, team frame for ``team``."""
+
+    x: float
+    y: float
+    confidence: float
+    source: str  # "own" or "team"
+    sender: int = 0
+
+
+@dataclass(frozen=True)
+class BallBelief:
+    """The best hypothesis (robot frame, m) with its level and the active-gaze request."""
+
+    x: float
+    y: float
+    confidence: float
+    level: BallLevel
+    source: str
+    """``vision`` (seen now), ``own``, ``team`` or ``none``."""
+    look_at: tuple[float, float] | None
+    """Where the head should look (robot frame) when the ball is suspicious, else ``None``."""
+
+
+class BallHypotheses:
+    """The CMU multi-hypothesis ball of one robot (module docstring)."""
+
+    def __init__(self, params: HypothesisParams | None = None):
+        self.params = params or HypothesisParams()
+        self.hypotheses: list[Hypothesis] = []
+        self.time: float | None = None
+
+    def update(self, frame: SensorFrame, pose: RobotPose | None = None, team: Sequence[TeamMessage] = ()) -> BallBelief:
+        """One frame; ``pose`` converts team hypotheses; ``team``: messages received this frame."""
+        p = self.params
+        dt = 0.0 if self.time is None else max(0.0, frame.time - self.time)
+        self.time = frame.time
+        o = frame.odometry
+        seen = frame.percepts is not None and frame.percepts.count(5) > 0
+        for h in self.hypotheses:
+            if h.source == "team":
+                h.confidence -= p.team_decay_per_second * dt
+        if seen:  # the visible ball overrides: it is the one own hypothesis, and the answer
+            assert frame.percepts is not None
+            bx, by = frame.percepts.ball.xy[0]
+            self.hypotheses = [h for h in self.hypotheses if h.source == "team"]
+            self.hypotheses.append(Hypothesis(float(bx), float(by), 1.0, "own"))
+        else:
+            c, s = math.cos(o.dtheta), math.sin(o.dtheta)
+            walk = math.hypot(o.dx, o.dy) * p.walk_decay_per_metre + abs(o.dtheta) * p.turn_decay_per_radian
+            for h in self.hypotheses:
+                if h.source == "own":
+                    x, y = h.x - o.dx, h.y - o.dy
+                    h.x, h.y = c * x + s * y, -s * x + c * y
+                    h.confidence -= p.decay_per_second * dt + walk
+            self._negative(frame.percepts, pose, dt)
+        self._teammates(team, pose)
+        self.hypotheses = [h for h in self.hypotheses if h.confidence > 0.0]
+        return self._belief(pose, seen)
+
+    # -- pieces ----------------------------------------------------------------------------
+    def _relative(self, h: Hypothesis, pose: RobotPose | None) -> tuple[float, float] | None:
+        if h.source == "own":
+            return h.x, h.y
+        if pose is None:
+            return None
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        dx, dy = h.x - pose.x, h.y - pose.y
+        return c * dx + s * dy, -s * dx + c * dy
+
+    def _negative(self, percepts: Percepts | None, pose: RobotPose | None, dt: float) -> None:
+        """Hypotheses in view but not seen lose confidence fast."""
+        cam = percepts.camera if percepts is not None else None
+        if cam is None:
+            return
+        for h in self.hypotheses:
+            rel = self._relative(h, pose)
+            if rel is None or math.hypot(*rel) > self.params.view_distance:
+                continue
+            uv, front = cam.project(np.array([[rel[0], rel[1], 0.05]]))
+            if front[0] and cam.in_image(uv)[0]:
+                h.confidence -= self.params.negative_per_second * dt
+
+    def _teammates(self, team: Sequence[TeamMessage], pose: RobotPose | None) -> None:
+        p = self.params
+        for m in team:
+            if not m.ball_valid or m.penalized or m.ball_age > p.max_team_age:
+                continue
+            conf = max(0.0, min(1.0, m.ball_confidence)) - p.team_decay_per_second * m.ball_age
+            self.hypotheses = [h for h in self.hypotheses if not (h.source == "team" and h.sender == m.player)]
+            self.hypotheses.append(Hypothesis(m.ball_x, m.ball_y, conf, "team", m.player))
+
+    def _belief(self, pose: RobotPose | None, seen: bool) -> BallBelief:
+        p = self.params
+        ranked = sorted(
+            (h for h in self.hypotheses if self._relative(h, pose) is not None), key=lambda h: -h.confidence
+        )
+        if seen:
+            ranked = [h for h in ranked if h.source == "own"]
+        if not ranked:
+            return BallBelief(0.0, 0.0, 0.0, "invalid", "none", None)
+        best = ranked[0]
+        rel = self._relative(best, pose)
+        assert rel is not None
+        level: BallLevel = (
+            "valid"
+            if best.confidence >= p.valid_level
+            else ("suspicious" if best.confidence >= p.suspicious_level else "invalid")
+        )
+        source = "vision" if seen else best.source
+        look = rel if level == "suspicious" else None
+        return BallBelief(rel[0], rel[1], best.confidence, level, source, look)
