@@ -9,6 +9,7 @@ module                                    content
 :mod:`cognition.worldmodel.kalman_ball`   functional core of the Darmstadt Kalman ball
 :mod:`cognition.worldmodel.ball`          the Kalman ball module (percepts, odometry, team)
 :mod:`cognition.worldmodel.hypotheses`    multi-hypothesis ball with CMU's three levels
+:mod:`cognition.worldmodel.team`          teammates' reports and the fused team ball
 :mod:`cognition.worldmodel.goal`          goal pose from a scan's two posts (CMU IV.B)
 ========================================  ================================================
 """

@@ -93,8 +93,9 @@ class KalmanBallModel:
             z, r = self._measurement(row, height, focal, foot)
             if self.x is None or self.p is None:
                 return self._start(z, r)
-            innov = z - self.x[:2]
-            m2 = float(innov @ np.linalg.solve(self.p[:2, :2] + r, innov))
+            ex, ey = z[0] - self.x[0], z[1] - self.x[1]
+            a, b, d = self.p[0, 0] + r[0, 0], self.p[0, 1] + r[0, 1], self.p[1, 1] + r[1, 1]
+            m2 = float((d * ex * ex - 2.0 * b * ex * ey + a * ey * ey) / max(a * d - b * b, 1e-18))
             if best is None or m2 < best[0]:
                 best = (m2, z, r)
         assert best is not None
