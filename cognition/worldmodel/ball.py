@@ -26,7 +26,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.percepts import Col, Percepts
+from cognition.percepts import Col, Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
 from cognition.worldmodel.kalman_ball import (
     KalmanBallParams,
@@ -81,10 +81,15 @@ class KalmanBallModel:
 
     # -- updates ---------------------------------------------------------------------------
     def _camera(self, percepts: Percepts | None) -> bool:
-        if percepts is None or percepts.count(5) == 0 or percepts.camera is None:
+        if percepts is None:
+            return False
+        table, offsets = percepts.table_and_offsets
+        if offsets[Kind.BALL + 1] == offsets[Kind.BALL]:
             return False
         cam = percepts.camera
-        rows = percepts.ball.rows
+        if cam is None:
+            return False
+        rows = table[offsets[Kind.BALL] : offsets[Kind.BALL + 1]]
         height = cam.height - self.ball_radius
         focal = 0.5 * (cam.spec.fx + cam.spec.fy)
         foot = np.asarray(cam.position[:2], dtype=np.float64)  # distances are from the camera's foot
@@ -134,7 +139,7 @@ class KalmanBallModel:
         return True
 
     def _needs_team(self) -> bool:
-        return self.p is None or float(np.trace(self.p[:2, :2])) > self.params.team_threshold
+        return self.p is None or float(self.p[0, 0] + self.p[1, 1]) > self.params.team_threshold
 
     def _team(self, pose: RobotPose, team: Sequence[TeamMessage]) -> None:
         mates = [m for m in team if m.ball_valid and not m.penalized]
@@ -161,7 +166,8 @@ class KalmanBallModel:
     def _output(self, pose: RobotPose | None) -> BallModel:
         if self.x is None or self.p is None:
             return BallModel(0.0, 0.0, 0.0, 0.0, np.eye(4) * 1e6, math.nan, math.nan, math.inf, "invalid", "none")
-        sd = math.sqrt(max(0.0, 0.5 * float(np.trace(self.p[:2, :2]))))
+        p = self.p
+        sd = math.sqrt(max(0.0, 0.5 * float(p[0, 0] + p[1, 1])))
         level: BallLevel = "valid" if sd < VALID_SIGMA else ("suspicious" if sd < SUSPICIOUS_SIGMA else "invalid")
         fx = fy = math.nan
         if pose is not None:
@@ -169,7 +175,8 @@ class KalmanBallModel:
             fx = pose.x + c * self.x[0] - s * self.x[1]
             fy = pose.y + s * self.x[0] + c * self.x[1]
         age = (self.time or 0.0) - self.last_seen
+        p.flags.writeable = False  # shared with the output: every update makes a new array
         return BallModel(
-            float(self.x[0]), float(self.x[1]), float(self.x[2]), float(self.x[3]), self.p.copy(), fx, fy, age,
+            float(self.x[0]), float(self.x[1]), float(self.x[2]), float(self.x[3]), p, fx, fy, age,
             level, self.source,  # type: ignore[arg-type]
         )  # fmt: skip

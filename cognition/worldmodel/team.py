@@ -79,7 +79,7 @@ def team_ball(
         nonlocal ix, ixy, iy, vx, vy
         a, b, d = cxx + extra, cxy, cyy + extra
         det = a * d - b * b
-        if not det > 1e-12:
+        if not (det > 1e-12 and math.isfinite(det)):  # degenerate or infinitely uncertain
             return
         ia, ib, idd = d / det, -b / det, a / det
         ix, ixy, iy = ix + ia, ixy + ib, iy + idd
