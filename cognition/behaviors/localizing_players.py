@@ -8,7 +8,10 @@ estimated own pose. The ball, teammates and opponents still come from the oracle
 the one exception that reads the true own pose, as a baseline.
 
 Body states are the oracle players' (stand, position, keeper, strike, support, wait), decided
-and carried out with the estimated pose; the team status message carries the estimate too.
+and carried out with the estimated pose. The brain also runs the world model of
+:mod:`cognition.worldmodel` (Kalman ball, ball hypotheses, teammates' reports, team ball; the
+play does not use it yet) and sends :class:`~cognition.worldmodel.messages.TeamMessage` reports
+with its estimated pose and ball, spreading the team's message budget over the game.
 The head has its own small state machine, so that the camera sees landmarks:
 
 =====  =====================================================================================
@@ -45,7 +48,11 @@ from cognition.brain import BrainContext
 from cognition.localization import VARIANTS, LocalizationParams, Localizer, make_localizer
 from cognition.oracle import OracleInput
 from cognition.params import check_non_negative, check_positive
-from cognition.representations import BrainOutput, HeadRequest, RobotPose, SensorFrame
+from cognition.representations import BallModel, BrainOutput, HeadRequest, RobotPose, SensorFrame
+from cognition.worldmodel.ball import KalmanBallModel
+from cognition.worldmodel.hypotheses import BallBelief, BallHypotheses
+from cognition.worldmodel.messages import Role, TeamMessage
+from cognition.worldmodel.team import TeamBallEstimate, TeamState, team_ball
 
 
 @dataclass(frozen=True)
@@ -98,6 +105,15 @@ class LocalizingBrain(OracleBrain):
         """The robot's localizer (built in :meth:`reset`)."""
         self.pose: RobotPose | None = None
         """The latest pose estimate (team frame; ``None`` before :meth:`reset`)."""
+        self.ball_model: KalmanBallModel | None = None
+        """The Kalman ball (robot frame), fed with percepts, odometry and teammates' reports."""
+        self.hypotheses = BallHypotheses()
+        """The CMU multi-hypothesis ball."""
+        self.team = TeamState(1)
+        """Teammates' latest reports."""
+        self.ball: BallModel | None = None
+        self.belief: BallBelief | None = None
+        self.team_ball: TeamBallEstimate | None = None
         self.head_state = "ball"
         self._scan_start = 0.0
         self._scan_side = 1.0
@@ -115,6 +131,12 @@ class LocalizingBrain(OracleBrain):
             players_per_team=context.players_per_team,
         )
         self.pose = self.localizer.pose
+        self.ball_model = KalmanBallModel(0.5 * context.field.dims.ball_diameter)
+        self.hypotheses = BallHypotheses()
+        self.team = TeamState(context.player_number)
+        self.ball = None
+        self.belief = None
+        self.team_ball = None
         self.head_state = "ball"
         self._scan_start = 0.0
         self._scan_side = 1.0
@@ -129,12 +151,42 @@ class LocalizingBrain(OracleBrain):
         truth = (me.x, me.y, me.theta) if self.variant == "oracle" else None
         pose = self.localizer.update(frame, truth)
         self.pose = pose
+        mates = self.team.update(frame)
+        assert self.ball_model is not None
+        self.ball = self.ball_model.update(frame, pose, mates)
+        self.belief = self.hypotheses.update(frame, pose, mates)
+        self.team_ball = team_ball(self.ball, pose, self.context.player_number, mates)
         believed = replace(oracle, self_pose=replace(me, x=pose.x, y=pose.y, theta=pose.theta))
         out = super().think(frame, believed)
         self.head_state = self._head_transition(frame, pose)
         if self.head_state == "scan":
             out = replace(out, motion=replace(out.motion, head=self._scan_head(frame)))
         return out
+
+    def _payload(self, frame: SensorFrame, oracle: OracleInput) -> bytes:
+        """The team message (:mod:`cognition.worldmodel.messages`): the estimated pose, the own
+        Kalman ball in the team frame, the role, and the fallen, penalised and lost flags."""
+        assert self.context is not None and self.pose is not None
+        pose, ball = self.pose, self.ball
+        role = {"keeper": Role.KEEPER, "strike": Role.STRIKER, "support": Role.SUPPORTER}.get(self.state, Role.NONE)
+        fields: dict[str, object] = {}
+        if ball is not None and ball.level != "invalid" and math.isfinite(ball.field_x):
+            c, s = math.cos(pose.theta), math.sin(pose.theta)
+            p = ball.covariance
+            fields = {
+                "ball_x": _clip(ball.field_x, 99.0), "ball_y": _clip(ball.field_y, 99.0),
+                "ball_vx": _clip(c * ball.vx - s * ball.vy, 49.0), "ball_vy": _clip(s * ball.vx + c * ball.vy, 49.0),
+                "ball_age": min(ball.age, 1e6), "ball_cov_xx": c * c * p[0, 0] - 2 * c * s * p[0, 1] + s * s * p[1, 1],
+                "ball_cov_xy": c * s * (p[0, 0] - p[1, 1]) + (c * c - s * s) * p[0, 1],
+                "ball_cov_yy": s * s * p[0, 0] + 2 * c * s * p[0, 1] + c * c * p[1, 1],
+                "ball_confidence": 1.0 if ball.level == "valid" else 0.5, "ball_valid": True,
+            }  # fmt: skip
+        msg = TeamMessage(
+            player=self.context.player_number, x=_clip(pose.x, 99.0), y=_clip(pose.y, 99.0), theta=pose.theta,
+            pose_std=min(pose.position_std, 1e6), role=role, fallen=frame.fallen, penalized=bool(frame.penalty),
+            lost=pose.lost, **fields,  # type: ignore[arg-type]
+        )  # fmt: skip
+        return msg.pack()
 
     # -- head ------------------------------------------------------------------------------
     def _head_transition(self, frame: SensorFrame, pose: RobotPose) -> str:
@@ -156,3 +208,8 @@ class LocalizingBrain(OracleBrain):
         pos = frac if leg % 2 == 0 else 1.0 - frac
         yaw = self._scan_side * p.scan_yaw * (1.0 - 2.0 * pos)
         return HeadRequest(yaw=yaw, pitch=p.scan_pitch, speed=p.scan_speed)
+
+
+def _clip(v: float, limit: float) -> float:
+    """``v`` limited to [-limit, limit] (the message's ranges)."""
+    return max(-limit, min(limit, float(v)))

@@ -301,17 +301,28 @@ class OracleBrain:
 
     # -- team messages ---------------------------------------------------------------------
     def _message(self, frame: SensorFrame, oracle: OracleInput) -> bytes | None:
+        if not self._send_now(frame):
+            return None
+        self._last_message = frame.time
+        return self._payload(frame, oracle)
+
+    def _send_now(self, frame: SensorFrame) -> bool:
+        """Whether to send now: while PLAYING, spreading the team's remaining budget over the
+        remaining game time (every player takes its share), never faster than the minimum
+        interval."""
         assert self.context is not None
         game = frame.game
         if game.state != GameStateId.PLAYING:
-            return None
+            return False
         budget = game.team(self.context.team_number).message_budget
         if budget <= 0:
-            return None
+            return False
         remaining = max(1.0, float(game.secs_remaining) * (2.0 if game.first_half else 1.0))
         interval = max(self.params.min_message_interval, remaining * self.context.players_per_team / budget)
-        if frame.time - self._last_message < interval:
-            return None
-        self._last_message = frame.time
+        return frame.time - self._last_message >= interval
+
+    def _payload(self, frame: SensorFrame, oracle: OracleInput) -> bytes:
+        """The status message (:data:`STATUS_FORMAT`)."""
+        assert self.context is not None
         me = oracle.self_pose
         return STATUS_FORMAT.pack(self.context.player_number, me.x, me.y, me.theta)

@@ -1,0 +1,70 @@
+"""The world model inside matches: team messages within the budget, loss and delay, team balls."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cognition.worldmodel.messages import unpack
+from teamsim.channel import ChannelParams
+from teamsim.match import Match, MatchConfig
+from teamsim.referee import RefereeParams
+
+
+def _run(channel: ChannelParams, seconds: float = 60.0):
+    m = Match(MatchConfig(seed=3, localization="lowvar", channel=channel, referee=RefereeParams(half_seconds=seconds)))
+    contributors, errors = [], []
+    while not m.referee.finished:
+        m.step()
+        if m.steps % 50:
+            continue
+        for i, b in enumerate(m.brains):
+            if b.team_ball is not None:
+                contributors.append(len(b.team_ball.contributors))
+            if b.ball is not None and b.ball.source == "vision" and not b.pose.lost:
+                bx, by = m.world.ball.position
+                # compare the Kalman ball's field position with the truth in the team frame
+                sign = 1.0 if (m.world.robots[i].team == 0) == m.referee.first_half else -1.0
+                errors.append(math.hypot(b.ball.field_x - sign * bx, b.ball.field_y - sign * by))
+    return m, contributors, errors
+
+
+@pytest.mark.slow
+def test_messages_respect_a_tight_budget_and_are_all_valid():
+    m, contributors, errors = _run(ChannelParams(budget=100, loss=0.0))
+    for team in (0, 1):
+        st = m.channel.stats[team]
+        assert st.refused == 0 and 60 <= st.sent <= 100, st
+    assert all(b.team.rejected == 0 for b in m.brains)
+    assert max(contributors) >= 3  # teammates' balls do get fused
+    assert np.median(errors) < 0.3
+
+
+@pytest.mark.slow
+def test_loss_and_delay_degrade_gracefully():
+    clean = _run(ChannelParams(loss=0.0, delay=0.02, jitter=0.0))
+    lossy = _run(ChannelParams(loss=0.7, delay=0.5, jitter=0.3))
+    assert clean[0].channel.stats[0].lost == 0 and lossy[0].channel.stats[0].lost > 0
+    assert all(b.team.rejected == 0 for b in lossy[0].brains)
+    assert np.mean(lossy[1]) < np.mean(clean[1])  # fewer teammates heard
+    assert np.mean(lossy[1]) >= 1.0 and np.median(lossy[2]) < 0.3  # the own ball is unaffected
+
+
+def test_sent_payloads_are_team_messages():
+    ref = RefereeParams(half_seconds=20, initial_seconds=0.5, ready_seconds=2.0, set_seconds=1.0)
+    m = Match(MatchConfig(seed=4, localization="odometry", referee=ref))
+    sent = []
+    orig = m.channel.send
+
+    def spy(team, number, payload, now):
+        sent.append((number, payload))
+        return orig(team, number, payload, now)
+
+    m.channel.send = spy  # type: ignore[method-assign]
+    m.run(until=25.0)
+    assert sent
+    for number, payload in sent:
+        msg = unpack(payload)
+        assert msg.player == number
