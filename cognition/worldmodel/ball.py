@@ -127,7 +127,18 @@ class KalmanBallModel:
             sa = sb = prm.fixed_sigma
         d_s, sd_s = size_distance(float(row[Col.RADIUS_PX]), focal, self.ball_radius, height)
         bx, by = float(row[Col.X]) - foot[0], float(row[Col.Y]) - foot[1]
-        z, r = camera_measurement(bx, by, height, sa, sb, d_s, sd_s * prm.size_sigma_px)
+        if self.x is None or not prm.sigmas_at_prediction:
+            z, r = camera_measurement(bx, by, height, sa, sb, d_s, sd_s * prm.size_sigma_px)
+            return z + foot, r
+        # the fused measurement from the percept, its covariance at the predicted distance
+        px, py = self.x[0] - foot[0], self.x[1] - foot[1]
+        d_pred = max(math.hypot(px, py), 1e-3)
+        rho_pred = focal * self.ball_radius / math.sqrt(max(d_pred**2 + height**2 - self.ball_radius**2, 1e-6))
+        _, sd_pred = size_distance(rho_pred, focal, self.ball_radius, height)
+        z, _ = camera_measurement(bx, by, height, sa, sb, d_s, sd_s * prm.size_sigma_px)
+        beta = math.atan2(z[1], z[0])
+        _, r = camera_measurement(d_pred * math.cos(beta), d_pred * math.sin(beta), height, sa, sb, d_pred,
+                                  sd_pred * prm.size_sigma_px)  # fmt: skip
         return z + foot, r
 
     def _start(self, z: NDArray[np.float64], r: NDArray[np.float64]) -> bool:
