@@ -26,16 +26,9 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.percepts import Col, Kind, Percepts
+from cognition.percepts import Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
-from cognition.worldmodel.kalman_ball import (
-    KalmanBallParams,
-    camera_measurement,
-    move_robot,
-    predict,
-    size_distance,
-    update,
-)
+from cognition.worldmodel.kalman_ball import KalmanBallParams, _update_nb, measure_rows_nb, predict_move_nb, update
 from cognition.worldmodel.messages import TeamMessage
 
 GATE = 25.0
@@ -46,6 +39,7 @@ VALID_SIGMA = 0.5
 """Position sd (m) below which the ball is ``valid``."""
 SUSPICIOUS_SIGMA = 1.5
 """Position sd (m) below which the ball is ``suspicious`` (else ``invalid``)."""
+_BALL = int(Kind.BALL)
 _TEAM_VELOCITY_VAR = 1.0  # (m/s)^2: the message carries no velocity covariance
 
 
@@ -68,9 +62,10 @@ class KalmanBallModel:
         dt = 0.0 if self.time is None else max(0.0, frame.time - self.time)
         self.time = frame.time
         if self.x is not None and self.p is not None:
-            self.x, self.p = predict(self.x, self.p, dt, prm.rolling_deceleration, prm.accel_sigma)
             o = frame.odometry
-            self.x, self.p = move_robot(self.x, self.p, o.dx, o.dy, o.dtheta)
+            self.x, self.p = predict_move_nb(
+                self.x, self.p, dt, prm.rolling_deceleration, prm.accel_sigma, o.dx, o.dy, o.dtheta
+            )
             self.source = "prediction"
         if self._camera(frame.percepts):
             self.last_seen = frame.time
@@ -84,20 +79,26 @@ class KalmanBallModel:
         if percepts is None:
             return False
         table, offsets = percepts.table_and_offsets
-        if offsets[Kind.BALL + 1] == offsets[Kind.BALL]:
+        lo, hi = int(offsets[_BALL]), int(offsets[_BALL + 1])
+        if hi == lo:
             return False
         cam = percepts.camera
         if cam is None:
             return False
-        rows = table[offsets[Kind.BALL] : offsets[Kind.BALL + 1]]
-        height = cam.height - self.ball_radius
-        focal = 0.5 * (cam.spec.fx + cam.spec.fy)
-        foot = np.asarray(cam.position[:2], dtype=np.float64)  # distances are from the camera's foot
+        rows = table[lo:hi]
+        prm = self.params
+        foot = cam.position  # distances are from the camera's foot
+        use_pred = self.x is not None and prm.sigmas_at_prediction
+        px, py = (float(self.x[0]), float(self.x[1])) if self.x is not None else (0.0, 0.0)
+        fixed = prm.fixed_sigma if prm.sigma_mode == "fixed" else -1.0
+        zs, rs = measure_rows_nb(
+            rows, float(foot[0]), float(foot[1]), cam.height - self.ball_radius, 0.5 * (cam.spec.fx + cam.spec.fy),
+            self.ball_radius, fixed, prm.size_sigma_px, use_pred, px, py,
+        )  # fmt: skip
+        if self.x is None or self.p is None:
+            return self._start(zs[0], rs[0])
         best = None
-        for row in rows:
-            z, r = self._measurement(row, height, focal, foot)
-            if self.x is None or self.p is None:
-                return self._start(z, r)
+        for z, r in zip(zs, rs, strict=True):
             ex, ey = z[0] - self.x[0], z[1] - self.x[1]
             a, b, d = self.p[0, 0] + r[0, 0], self.p[0, 1] + r[0, 1], self.p[1, 1] + r[1, 1]
             m2 = float((d * ex * ex - 2.0 * b * ex * ey + a * ey * ey) / max(a * d - b * b, 1e-18))
@@ -113,33 +114,8 @@ class KalmanBallModel:
             return False
         self._rejected = 0
         assert self.x is not None and self.p is not None
-        self.x, self.p = update(self.x, self.p, z, r)
+        self.x, self.p = _update_nb(self.x, self.p, z, r)
         return True
-
-    def _measurement(
-        self, row: NDArray[np.float64], height: float, focal: float, foot: NDArray[np.float64]
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Eqs. 8-15 about the point below the camera (robot frame, m), shifted back."""
-        prm = self.params
-        if prm.sigma_mode == "adaptive":
-            sa, sb = float(row[Col.SIGMA_ALPHA]), float(row[Col.SIGMA_BETA])
-        else:
-            sa = sb = prm.fixed_sigma
-        d_s, sd_s = size_distance(float(row[Col.RADIUS_PX]), focal, self.ball_radius, height)
-        bx, by = float(row[Col.X]) - foot[0], float(row[Col.Y]) - foot[1]
-        if self.x is None or not prm.sigmas_at_prediction:
-            z, r = camera_measurement(bx, by, height, sa, sb, d_s, sd_s * prm.size_sigma_px)
-            return z + foot, r
-        # the fused measurement from the percept, its covariance at the predicted distance
-        px, py = self.x[0] - foot[0], self.x[1] - foot[1]
-        d_pred = max(math.hypot(px, py), 1e-3)
-        rho_pred = focal * self.ball_radius / math.sqrt(max(d_pred**2 + height**2 - self.ball_radius**2, 1e-6))
-        _, sd_pred = size_distance(rho_pred, focal, self.ball_radius, height)
-        z, _ = camera_measurement(bx, by, height, sa, sb, d_s, sd_s * prm.size_sigma_px)
-        beta = math.atan2(z[1], z[0])
-        _, r = camera_measurement(d_pred * math.cos(beta), d_pred * math.sin(beta), height, sa, sb, d_pred,
-                                  sd_pred * prm.size_sigma_px)  # fmt: skip
-        return z + foot, r
 
     def _start(self, z: NDArray[np.float64], r: NDArray[np.float64]) -> bool:
         v2 = self.params.initial_velocity_sigma**2

@@ -256,9 +256,53 @@ def size_distance(radius_px: float, focal_px: float, ball_radius: float, height:
     rho)^2); the ground distance is sqrt(D^2 - height^2). Multiply the returned sd by the
     radius sd in pixels.
     """
+    return _size_nb(float(radius_px), float(focal_px), float(ball_radius), float(height))
+
+
+@nb.njit(cache=True)
+def _size_nb(radius_px, focal_px, ball_radius, height):  # pragma: no cover - compiled
     if not radius_px > 0.0:
         return math.nan, math.inf
     big_d = ball_radius * math.sqrt(1.0 + (focal_px / radius_px) ** 2)
     d = math.sqrt(max(big_d * big_d - height * height, 1e-6))
     sd_big = big_d / radius_px  # dD / drho for one pixel
     return d, sd_big * big_d / d
+
+
+@nb.njit(cache=True)
+def predict_move_nb(x, p, dt, deceleration, accel_sigma, dx, dy, dtheta):  # pragma: no cover - compiled
+    """:func:`predict` then :func:`move_robot` in one call."""
+    x1, p1 = _predict_nb(x, p, dt, deceleration, accel_sigma)
+    return _move_nb(x1, p1, dx, dy, dtheta)
+
+
+@nb.njit(cache=True)
+def measure_rows_nb(
+    rows, foot_x, foot_y, height, focal, ball_radius, fixed_sigma, size_sigma_px, use_prediction, pred_x, pred_y
+):  # pragma: no cover - compiled
+    """Measurements (K x 2) and covariances (K x 2 x 2), robot frame, of ball percept rows.
+
+    Distances are taken from the camera's foot (``foot_x``, ``foot_y``); ``fixed_sigma`` > 0
+    replaces the percepts' angular sigmas; with ``use_prediction`` eqs. 8-12 are evaluated
+    at the predicted position (``pred_x``, ``pred_y``) instead of the measured one.
+    """
+    k = rows.shape[0]
+    zs = np.empty((k, 2))
+    rs = np.empty((k, 2, 2))
+    for i in range(k):
+        sa = fixed_sigma if fixed_sigma > 0.0 else rows[i, 13]
+        sb = fixed_sigma if fixed_sigma > 0.0 else rows[i, 14]
+        d_s, sd_s = _size_nb(rows[i, 15], focal, ball_radius, height)
+        bx, by = rows[i, 0] - foot_x, rows[i, 1] - foot_y
+        z, r = _camera_nb(bx, by, height, sa, sb, d_s, sd_s * size_sigma_px)
+        if use_prediction:
+            px, py = pred_x - foot_x, pred_y - foot_y
+            d_pred = max(math.sqrt(px * px + py * py), 1e-3)
+            rho = focal * ball_radius / math.sqrt(max(d_pred * d_pred + height * height - ball_radius**2, 1e-6))
+            _, sd_pred = _size_nb(rho, focal, ball_radius, height)
+            beta = math.atan2(z[1], z[0])
+            _, r = _camera_nb(d_pred * math.cos(beta), d_pred * math.sin(beta), height, sa, sb, d_pred,
+                              sd_pred * size_sigma_px)  # fmt: skip
+        zs[i, 0], zs[i, 1] = z[0] + foot_x, z[1] + foot_y
+        rs[i] = r
+    return zs, rs
