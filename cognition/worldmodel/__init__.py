@@ -11,5 +11,6 @@ module                                    content
 :mod:`cognition.worldmodel.hypotheses`    multi-hypothesis ball with CMU's three levels
 :mod:`cognition.worldmodel.team`          teammates' reports and the fused team ball
 :mod:`cognition.worldmodel.goal`          goal pose from a scan's two posts (CMU IV.B)
+:mod:`cognition.worldmodel.obstacles`     occupancy grid and 72-sector obstacles (Darmstadt VII)
 ========================================  ================================================
 """

@@ -1,0 +1,192 @@
+"""Obstacle models (Darmstadt paper, Sec. VII): a robot-centric occupancy grid and 72 sectors.
+
+**Grid** (:class:`ObstacleGrid`, the paper's model in development): log-odds occupancy on a
+square grid centred on the robot (robot frame, ``cell`` m per cell). Each frame with an
+image:
+
+* cells inside the camera's view (on the ground, within ``view_range``) get the log-odds
+  of free space, unless an obstacle percept is near them;
+* around each robot percept, cells get occupancy weighted by a Gaussian whose width
+  across the line of sight comes from the percept's bearing sigma (sigma_beta d, Darmstadt
+  eqs. 3-4, 12) and along it from its distance sigma (eq. 8's projection with
+  sigma_alpha), like an ultrasonic sensor model;
+* log-odds are clamped to +-``clamp`` and decay toward 0 (unknown) with time.
+
+Odometry moves the grid: the map is resampled into the new robot frame (nearest cell), so
+a map survives turning and walking, with the smear of the discretisation.
+
+**Sectors** (:class:`ObstacleSectors`, the model the Darmstadt robots used in 2009-2010):
+the distance to the nearest obstacle in each of 72 five-degree sectors around the robot,
+set by robot percepts, moved approximately with odometry, forgotten after ``memory`` s; no
+free space, no uncertainty.
+
+Both output :class:`ObstacleModel`: obstacle positions (robot frame, m) and, for the grid,
+the occupancy probability map.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.params import check_positive
+from cognition.percepts import Col, Kind, Percepts
+from cognition.representations import OdometryReading
+
+SECTORS = 72
+
+
+@dataclass(frozen=True)
+class ObstacleModel:
+    """Obstacles around the robot (robot frame, m)."""
+
+    obstacles: NDArray[np.float64]
+    """K x 2 positions of obstacles (grid: centroids of occupied cells above 0.7)."""
+    occupancy: NDArray[np.float64] | None
+    """Grid only: P(occupied) per cell, rows along y (first row y = -extent), columns along x."""
+    cell: float
+    """Cell size (m); 0 for the sector model."""
+
+
+@dataclass(frozen=True)
+class ObstacleGridParams:
+    """Tuning of the occupancy grid (m, s)."""
+
+    extent: float = 3.0
+    """Half width of the square grid (m)."""
+    cell: float = 0.1
+    view_range: float = 3.0
+    """Free space is only claimed this far (m)."""
+    log_free: float = -0.4
+    log_hit: float = 1.2
+    clamp: float = 4.0
+    decay_per_second: float = 1.0
+    """Log-odds lost per second toward unknown (a saturated cell is forgotten in 4 s: robots
+    move)."""
+    robot_radius: float = 0.15
+    """Half width of an obstacle (m), added to the percept's spread."""
+
+    def __post_init__(self) -> None:
+        check_positive("ObstacleGridParams", extent=self.extent, cell=self.cell, view_range=self.view_range,
+                       log_hit=self.log_hit, clamp=self.clamp, robot_radius=self.robot_radius)  # fmt: skip
+        if self.log_free >= 0:
+            raise ValueError(f"ObstacleGridParams.log_free must be < 0, got {self.log_free}")
+
+
+class ObstacleGrid:
+    """Robot-centric log-odds occupancy grid (module docstring)."""
+
+    def __init__(self, params: ObstacleGridParams | None = None):
+        self.params = params or ObstacleGridParams()
+        p = self.params
+        self.n = round(2 * p.extent / p.cell)
+        c = (np.arange(self.n) + 0.5) * p.cell - p.extent
+        self.cx, self.cy = np.meshgrid(c, c)  # cell centres, robot frame
+        self.logodds = np.zeros((self.n, self.n))
+        self.time: float | None = None
+
+    def update(self, time: float, odometry: OdometryReading, percepts: Percepts | None) -> ObstacleModel:
+        """Decay, move with the odometry, then add the image's free space and obstacles."""
+        p = self.params
+        dt = 0.0 if self.time is None else max(0.0, time - self.time)
+        self.time = time
+        self._move(odometry)
+        self.logodds -= np.sign(self.logodds) * np.minimum(np.abs(self.logodds), p.decay_per_second * dt)
+        if percepts is not None and percepts.camera is not None:
+            self._observe(percepts)
+        return self.model()
+
+    def _move(self, o: OdometryReading) -> None:
+        if o.dx == 0.0 and o.dy == 0.0 and o.dtheta == 0.0:
+            return
+        p = self.params
+        c, s = math.cos(o.dtheta), math.sin(o.dtheta)
+        # a new cell's centre in the old robot frame, then the old cell it falls into
+        ox = c * self.cx - s * self.cy + o.dx
+        oy = s * self.cx + c * self.cy + o.dy
+        ix = np.floor((ox + p.extent) / p.cell).astype(int)
+        iy = np.floor((oy + p.extent) / p.cell).astype(int)
+        inside = (ix >= 0) & (ix < self.n) & (iy >= 0) & (iy < self.n)
+        moved = np.zeros_like(self.logodds)
+        moved[inside] = self.logodds[iy[inside], ix[inside]]
+        self.logodds = moved
+
+    def _observe(self, percepts: Percepts) -> None:
+        p = self.params
+        cam = percepts.camera
+        assert cam is not None
+        pts = np.column_stack([self.cx.ravel(), self.cy.ravel(), np.zeros(self.cx.size)])
+        uv, front = cam.project(pts)
+        seen = (front & cam.in_image(uv)).reshape(self.cx.shape)
+        seen &= np.hypot(self.cx, self.cy) <= p.view_range
+        hit = np.zeros_like(self.logodds)
+        rows = percepts.table(Kind.ROBOT).rows
+        for r in rows:
+            x, y = float(r[Col.X]), float(r[Col.Y])
+            d = max(math.hypot(x, y), 0.05)
+            ux, uy = x / d, y / d
+            h = max(cam.height, 0.1)
+            alpha = math.atan2(h, d)
+            sa = max(float(r[Col.SIGMA_ALPHA]), 1e-3)
+            sd_r = abs(h / math.tan(alpha + sa) - h / math.tan(alpha)) + p.robot_radius  # eq. 8, along
+            sd_t = math.tan(max(float(r[Col.SIGMA_BETA]), 1e-3)) * d + p.robot_radius  # eq. 12, across
+            ex, ey = self.cx - x, self.cy - y
+            along = ex * ux + ey * uy
+            across = -ex * uy + ey * ux
+            hit = np.maximum(hit, np.exp(-0.5 * ((along / sd_r) ** 2 + (across / sd_t) ** 2)))
+        self.logodds += np.where(seen & (hit < 0.1), p.log_free, 0.0) + p.log_hit * hit
+        np.clip(self.logodds, -p.clamp, p.clamp, out=self.logodds)
+
+    def model(self) -> ObstacleModel:
+        """The current map: occupancy probabilities and occupied-cell centroids."""
+        prob = 1.0 / (1.0 + np.exp(-self.logodds))
+        occ = prob > 0.7
+        pts = np.column_stack([self.cx[occ], self.cy[occ]]) if occ.any() else np.zeros((0, 2))
+        return ObstacleModel(pts, prob, self.params.cell)
+
+
+class ObstacleSectors:
+    """The 72-sector model: nearest obstacle distance per 5 degrees (module docstring)."""
+
+    def __init__(self, memory: float = 3.0):
+        check_positive("ObstacleSectors", memory=memory)
+        self.memory = memory
+        self.distance = np.full(SECTORS, np.inf)
+        self.stamp = np.full(SECTORS, -np.inf)
+        self.time = 0.0
+
+    def update(self, time: float, odometry: OdometryReading, percepts: Percepts | None) -> ObstacleModel:
+        """Move with the odometry (per sector's obstacle point), forget old ones, add percepts."""
+        self.time = time
+        known = np.isfinite(self.distance) & (time - self.stamp <= self.memory)
+        ang = (np.arange(SECTORS) + 0.5) * (2 * math.pi / SECTORS) - math.pi
+        pts = np.column_stack([self.distance[known] * np.cos(ang[known]), self.distance[known] * np.sin(ang[known])])
+        stamps = self.stamp[known]
+        o = odometry
+        c, s = math.cos(o.dtheta), math.sin(o.dtheta)
+        px, py = pts[:, 0] - o.dx, pts[:, 1] - o.dy
+        pts = np.column_stack([c * px + s * py, -s * px + c * py])
+        self.distance[:] = np.inf
+        self.stamp[:] = -np.inf
+        for (x, y), t in zip(pts, stamps, strict=True):
+            self._set(x, y, t)
+        if percepts is not None:
+            for r in percepts.table(Kind.ROBOT).rows:
+                self._set(float(r[Col.X]), float(r[Col.Y]), time)
+        return self.model()
+
+    def _set(self, x: float, y: float, t: float) -> None:
+        k = int((math.atan2(y, x) + math.pi) / (2 * math.pi) * SECTORS) % SECTORS
+        d = math.hypot(x, y)
+        if d < self.distance[k] or t > self.stamp[k]:
+            self.distance[k], self.stamp[k] = d, t
+
+    def model(self) -> ObstacleModel:
+        known = np.isfinite(self.distance)
+        ang = (np.arange(SECTORS) + 0.5) * (2 * math.pi / SECTORS) - math.pi
+        d = self.distance[known]
+        pts = np.column_stack([d * np.cos(ang[known]), d * np.sin(ang[known])]) if known.any() else np.zeros((0, 2))
+        return ObstacleModel(pts, None, 0.0)
