@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from cognition.camera import CameraRig
 from cognition.field import FIELD_PRESETS, Field
-from cognition.representations import RobotPose
+from cognition.representations import BallModel, RobotPose
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer, draw_annotations, save_png
 from teamsim.match import Match
@@ -94,7 +94,8 @@ def side_by_side(top: NDArray[np.uint8], camera: NDArray[np.uint8]) -> NDArray[n
 
 
 def belief_overlay(match: Match, team: int, number: int) -> Belief | None:
-    """The robot's latest pose estimate and particles, converted from its team frame to the world frame.
+    """The robot's latest pose estimate and particles, ball, team ball and obstacles,
+    converted from its team (or robot) frame to the world frame.
 
     ``None`` when the robot's brain has no ``pose`` :class:`~cognition.representations.RobotPose`.
     """
@@ -109,7 +110,19 @@ def belief_overlay(match: Match, team: int, number: int) -> Belief | None:
         parts[:, :2] *= -1.0
         parts[:, 2] += math.pi
     parts[:, 2] = (parts[:, 2] + math.pi) % (2.0 * math.pi) - math.pi
-    return Belief(team, x, y, theta, parts, bool(pose.lost))
+    ball = getattr(brain, "ball", None)
+    ball_xy, level = None, "invalid"
+    if isinstance(ball, BallModel) and math.isfinite(ball.field_x):
+        ball_xy, level = (sign * ball.field_x, sign * ball.field_y), ball.level
+    tb = getattr(brain, "team_ball", None)
+    team_xy = (sign * tb.x, sign * tb.y) if tb is not None else None
+    obstacles = np.zeros((0, 2))
+    model = getattr(brain, "obstacle_model", None)
+    if model is not None and len(model.obstacles):  # robot frame -> world frame via the estimate
+        c, s = math.cos(theta), math.sin(theta)
+        rel = np.asarray(model.obstacles, dtype=np.float64)
+        obstacles = np.column_stack([x + c * rel[:, 0] - s * rel[:, 1], y + s * rel[:, 0] + c * rel[:, 1]])
+    return Belief(team, x, y, theta, parts, bool(pose.lost), ball_xy, level, team_xy, obstacles)
 
 
 def write_snapshots(

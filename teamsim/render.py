@@ -108,10 +108,21 @@ class Belief:
     """N x 3 particle poses (x m, y m, theta rad; world frame); may be empty."""
     lost: bool = False
     """Whether the localization flags itself lost (drawn as a "?" beside the estimate)."""
+    ball: tuple[float, float] | None = None
+    """The robot's ball estimate (m, world frame): a ring in the team colour, or ``None``."""
+    ball_level: str = "valid"
+    """``valid``, ``suspicious`` (drawn thinner) or ``invalid`` (not drawn)."""
+    team_ball: tuple[float, float] | None = None
+    """The fused team ball (m, world frame): a cross, or ``None``."""
+    obstacles: NDArray[np.float64] = dataclass_field(default_factory=lambda: np.zeros((0, 2)))
+    """K x 2 obstacle positions the robot believes in (m, world frame): small squares."""
 
     def __post_init__(self) -> None:
         if self.team not in (0, 1):
             raise ValueError(f"Belief.team must be 0 or 1, got {self.team!r}")
+        obs = np.asarray(self.obstacles)
+        if obs.ndim != 2 or obs.shape[1] != 2:
+            raise ValueError(f"Belief.obstacles must be K x 2, got shape {obs.shape}")
         if not (math.isfinite(self.x) and math.isfinite(self.y) and math.isfinite(self.theta)):
             raise ValueError(f"Belief pose must be finite, got ({self.x}, {self.y}, {self.theta})")
         p = np.asarray(self.particles)
@@ -313,7 +324,8 @@ class TopDownRenderer:
             self._centred_text(img, "P", r.x, r.y + 1.8 * ROBOT_RADIUS, _WHITE, scale)
 
     def _draw_belief(self, img: np.ndarray, b: Belief) -> None:
-        """Particles as small dots, the estimate as an outlined robot with a heading line."""
+        """Particles as small dots, the estimate as an outlined robot with a heading line, the
+        believed ball as a ring, the team ball as a cross and obstacles as small squares."""
         col = tuple(int(c) for c in self.scheme.team_colours[b.team])
         parts = np.asarray(b.particles, dtype=np.float64)
         if parts.shape[0]:
@@ -332,6 +344,16 @@ class TopDownRenderer:
         if b.lost:
             c, r = self._ipt(b.x + ROBOT_RADIUS, b.y + ROBOT_RADIUS)
             self._text(img, "?", (c, r), col, 0.6)
+        if b.ball is not None and b.ball_level != "invalid":
+            self._disc(img, b.ball[0], b.ball[1], 0.09, col, 2 if b.ball_level == "valid" else 1)
+        if b.team_ball is not None:
+            k = 0.08
+            tx, ty = b.team_ball
+            for sx in (-1.0, 1.0):
+                cv2.line(img, self._pt(tx - k, ty - sx * k), self._pt(tx + k, ty + sx * k), col, 2, _AA, _SHIFT)
+        for ox, oy in np.asarray(b.obstacles, dtype=np.float64).reshape(-1, 2):
+            a, c2 = self._pt(ox - 0.05, oy - 0.05), self._pt(ox + 0.05, oy + 0.05)
+            cv2.rectangle(img, a, c2, col, 1, _AA, _SHIFT)
 
     def _draw_overlay(self, img: np.ndarray, ov: Overlay) -> None:
         col = (int(ov.colour[0]), int(ov.colour[1]), int(ov.colour[2]))

@@ -68,3 +68,24 @@ def test_sent_payloads_are_team_messages():
     for number, payload in sent:
         msg = unpack(payload)
         assert msg.player == number
+
+
+def test_world_model_is_drawn_on_the_top_down_view():
+    from cognition.field import make_colour_scheme
+    from teamsim.camera_views import belief_overlay
+    from teamsim.render import Belief, TopDownRenderer
+
+    ref = RefereeParams(half_seconds=20, initial_seconds=0.5, ready_seconds=2.0, set_seconds=1.0)
+    m = Match(MatchConfig(seed=4, localization="lowvar", referee=ref))
+    m.run(until=8.0)
+    view = TopDownRenderer(m.field, make_colour_scheme("classic"))
+    belief = belief_overlay(m, 0, 3)
+    assert belief is not None and belief.ball is not None  # the striker sees the ball
+    plain = view.render(m.snapshot(), m.game_state())
+    drawn = Belief(0, 0.0, 0.0, 0.0, ball=(2.0, 1.0), team_ball=(-2.0, -1.0), obstacles=np.array([[1.0, -2.0]]))
+    img = view.render(m.snapshot(), m.game_state(), beliefs=[drawn])
+    for x, y in ((2.0 + 0.09, 1.0), (-2.0, -1.0), (1.05, -2.0)):
+        c, r = (int(v) for v in view.to_pixel(x, y))
+        assert np.any(img[r - 2 : r + 3, c - 2 : c + 3] != plain[r - 2 : r + 3, c - 2 : c + 3]), (x, y)
+    with pytest.raises(ValueError, match="obstacles"):
+        Belief(0, 0.0, 0.0, 0.0, obstacles=np.zeros(3))

@@ -9,8 +9,8 @@ the one exception that reads the true own pose, as a baseline.
 
 Body states are the oracle players' (stand, position, keeper, strike, support, wait), decided
 and carried out with the estimated pose. The brain also runs the world model of
-:mod:`cognition.worldmodel` (Kalman ball, ball hypotheses, teammates' reports, team ball; the
-play does not use it yet) and sends :class:`~cognition.worldmodel.messages.TeamMessage` reports
+:mod:`cognition.worldmodel` (Kalman ball, ball hypotheses, teammates' reports, team ball,
+72-sector obstacles; the play does not use it yet) and sends :class:`~cognition.worldmodel.messages.TeamMessage` reports
 with its estimated pose and ball, spreading the team's message budget over the game.
 The head has its own small state machine, so that the camera sees landmarks:
 
@@ -52,6 +52,7 @@ from cognition.representations import BallModel, BrainOutput, HeadRequest, Robot
 from cognition.worldmodel.ball import KalmanBallModel
 from cognition.worldmodel.hypotheses import BallBelief, BallHypotheses
 from cognition.worldmodel.messages import Role, TeamMessage
+from cognition.worldmodel.obstacles import ObstacleModel, ObstacleSectors
 from cognition.worldmodel.team import TeamBallEstimate, TeamState, team_ball
 
 
@@ -111,9 +112,12 @@ class LocalizingBrain(OracleBrain):
         """The CMU multi-hypothesis ball."""
         self.team = TeamState(1)
         """Teammates' latest reports."""
+        self.obstacles = ObstacleSectors()
+        """The 72-sector obstacle model (robot frame)."""
         self.ball: BallModel | None = None
         self.belief: BallBelief | None = None
         self.team_ball: TeamBallEstimate | None = None
+        self.obstacle_model: ObstacleModel | None = None
         self.head_state = "ball"
         self._scan_start = 0.0
         self._scan_side = 1.0
@@ -134,6 +138,8 @@ class LocalizingBrain(OracleBrain):
         self.ball_model = KalmanBallModel(0.5 * context.field.dims.ball_diameter)
         self.hypotheses = BallHypotheses()
         self.team = TeamState(context.player_number)
+        self.obstacles = ObstacleSectors()
+        self.obstacle_model = None
         self.ball = None
         self.belief = None
         self.team_ball = None
@@ -156,6 +162,7 @@ class LocalizingBrain(OracleBrain):
         self.ball = self.ball_model.update(frame, pose, mates)
         self.belief = self.hypotheses.update(frame, pose, mates)
         self.team_ball = team_ball(self.ball, pose, self.context.player_number, mates)
+        self.obstacle_model = self.obstacles.update(frame.time, frame.odometry, frame.percepts)
         believed = replace(oracle, self_pose=replace(me, x=pose.x, y=pose.y, theta=pose.theta))
         out = super().think(frame, believed)
         self.head_state = self._head_transition(frame, pose)
