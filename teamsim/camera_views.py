@@ -122,7 +122,13 @@ def belief_overlay(match: Match, team: int, number: int) -> Belief | None:
         c, s = math.cos(theta), math.sin(theta)
         rel = np.asarray(model.obstacles, dtype=np.float64)
         obstacles = np.column_stack([x + c * rel[:, 0] - s * rel[:, 1], y + s * rel[:, 0] + c * rel[:, 1]])
-    return Belief(team, x, y, theta, parts, bool(pose.lost), ball_xy, level, team_xy, obstacles)
+    goal = None
+    est = getattr(brain, "goal", None)
+    if est is not None:  # robot frame -> world frame via the estimate
+        c, s = math.cos(theta), math.sin(theta)
+        (lx, ly), (rx, ry) = est.left, est.right
+        goal = ((x + c * lx - s * ly, y + s * lx + c * ly), (x + c * rx - s * ry, y + s * rx + c * ry))
+    return Belief(team, x, y, theta, parts, bool(pose.lost), ball_xy, level, team_xy, obstacles, goal)
 
 
 def write_snapshots(

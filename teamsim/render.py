@@ -116,6 +116,8 @@ class Belief:
     """The fused team ball (m, world frame): a cross, or ``None``."""
     obstacles: NDArray[np.float64] = dataclass_field(default_factory=lambda: np.zeros((0, 2)))
     """K x 2 obstacle positions the robot believes in (m, world frame): small squares."""
+    goal: tuple[tuple[float, float], tuple[float, float]] | None = None
+    """The goal model's two posts (m, world frame): joined by a line, or ``None``."""
 
     def __post_init__(self) -> None:
         if self.team not in (0, 1):
@@ -325,7 +327,8 @@ class TopDownRenderer:
 
     def _draw_belief(self, img: np.ndarray, b: Belief) -> None:
         """Particles as small dots, the estimate as an outlined robot with a heading line, the
-        believed ball as a ring, the team ball as a cross and obstacles as small squares."""
+        believed ball as a ring, the team ball as a cross, the modelled goal as a line between
+        its posts and obstacles as small squares."""
         col = tuple(int(c) for c in self.scheme.team_colours[b.team])
         parts = np.asarray(b.particles, dtype=np.float64)
         if parts.shape[0]:
@@ -351,6 +354,9 @@ class TopDownRenderer:
             tx, ty = b.team_ball
             for sx in (-1.0, 1.0):
                 cv2.line(img, self._pt(tx - k, ty - sx * k), self._pt(tx + k, ty + sx * k), col, 2, _AA, _SHIFT)
+        if b.goal is not None:
+            (lx, ly), (rx, ry) = b.goal
+            cv2.line(img, self._pt(lx, ly), self._pt(rx, ry), col, 2, _AA, _SHIFT)
         for ox, oy in np.asarray(b.obstacles, dtype=np.float64).reshape(-1, 2):
             a, c2 = self._pt(ox - 0.05, oy - 0.05), self._pt(ox + 0.05, oy + 0.05)
             cv2.rectangle(img, a, c2, col, 1, _AA, _SHIFT)

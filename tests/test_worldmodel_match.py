@@ -82,9 +82,12 @@ def test_world_model_is_drawn_on_the_top_down_view():
     belief = belief_overlay(m, 0, 3)
     assert belief is not None and belief.ball is not None  # the striker sees the ball
     plain = view.render(m.snapshot(), m.game_state())
-    drawn = Belief(0, 0.0, 0.0, 0.0, ball=(2.0, 1.0), team_ball=(-2.0, -1.0), obstacles=np.array([[1.0, -2.0]]))
+    drawn = Belief(
+        0, 0.0, 0.0, 0.0, ball=(2.0, 1.0), team_ball=(-2.0, -1.0), obstacles=np.array([[1.0, -2.0]]),
+        goal=((3.5, 0.8), (3.5, -0.8)),
+    )  # fmt: skip
     img = view.render(m.snapshot(), m.game_state(), beliefs=[drawn])
-    for x, y in ((2.0 + 0.09, 1.0), (-2.0, -1.0), (1.05, -2.0)):
+    for x, y in ((2.0 + 0.09, 1.0), (-2.0, -1.0), (1.05, -2.0), (3.5, 0.0)):
         c, r = (int(v) for v in view.to_pixel(x, y))
         assert np.any(img[r - 2 : r + 3, c - 2 : c + 3] != plain[r - 2 : r + 3, c - 2 : c + 3]), (x, y)
     with pytest.raises(ValueError, match="obstacles"):

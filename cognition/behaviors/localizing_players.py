@@ -10,8 +10,9 @@ the one exception that reads the true own pose, as a baseline.
 Body states are the oracle players' (stand, position, keeper, strike, support, wait), decided
 and carried out with the estimated pose. The brain also runs the world model of
 :mod:`cognition.worldmodel` (Kalman ball, ball hypotheses, teammates' reports, team ball,
-72-sector obstacles; the play does not use it yet) and sends :class:`~cognition.worldmodel.messages.TeamMessage` reports
-with its estimated pose and ball, spreading the team's message budget over the game.
+72-sector obstacles, goal model; the play does not use it yet) and sends
+:class:`~cognition.worldmodel.messages.TeamMessage` reports with its estimated pose and
+ball, spreading the team's message budget over the game.
 The head has its own small state machine, so that the camera sees landmarks:
 
 =====  =====================================================================================
@@ -50,6 +51,7 @@ from cognition.oracle import OracleInput
 from cognition.params import check_non_negative, check_positive
 from cognition.representations import BallModel, BrainOutput, HeadRequest, RobotPose, SensorFrame
 from cognition.worldmodel.ball import KalmanBallModel
+from cognition.worldmodel.goal import GoalEstimate, GoalModel
 from cognition.worldmodel.hypotheses import BallBelief, BallHypotheses
 from cognition.worldmodel.messages import Role, TeamMessage
 from cognition.worldmodel.obstacles import ObstacleModel, ObstacleSectors
@@ -114,6 +116,9 @@ class LocalizingBrain(OracleBrain):
         """Teammates' latest reports."""
         self.obstacles = ObstacleSectors()
         """The 72-sector obstacle model (robot frame)."""
+        self.goal_model: GoalModel | None = None
+        """Goal-post tracks over head scans (CMU IV.B)."""
+        self.goal: GoalEstimate | None = None
         self.ball: BallModel | None = None
         self.belief: BallBelief | None = None
         self.team_ball: TeamBallEstimate | None = None
@@ -140,6 +145,9 @@ class LocalizingBrain(OracleBrain):
         self.team = TeamState(context.player_number)
         self.obstacles = ObstacleSectors()
         self.obstacle_model = None
+        dims = context.field.dims
+        self.goal_model = GoalModel(dims.goal_inner_width + dims.goal_post_diameter)
+        self.goal = None
         self.ball = None
         self.belief = None
         self.team_ball = None
@@ -163,6 +171,11 @@ class LocalizingBrain(OracleBrain):
         self.belief = self.hypotheses.update(frame, pose, mates)
         self.team_ball = team_ball(self.ball, pose, self.context.player_number, mates)
         self.obstacle_model = self.obstacles.update(frame.time, frame.odometry, frame.percepts)
+        assert self.goal_model is not None
+        o = frame.odometry
+        self.goal_model.move_robot(o.dx, o.dy, o.dtheta, 1.0 / self.context.cognition_hz)
+        self.goal_model.add_percepts(frame.percepts)
+        self.goal = self.goal_model.estimate()
         believed = replace(oracle, self_pose=replace(me, x=pose.x, y=pose.y, theta=pose.theta))
         out = super().think(frame, believed)
         self.head_state = self._head_transition(frame, pose)
