@@ -99,3 +99,24 @@ def test_bad_parameters_are_clear_errors():
         ObstacleGridParams(log_free=0.2)
     with pytest.raises(ValueError, match="memory"):
         ObstacleSectors(memory=0.0)
+
+
+def test_models_are_chosen_by_name():
+    from cognition.behaviors.localizing_players import LocalizingBrain
+    from cognition.worldmodel import make_ball_model, make_obstacle_model
+    from cognition.worldmodel.ball import KalmanBallModel
+    from cognition.worldmodel.hypotheses import BallHypotheses
+
+    assert isinstance(make_obstacle_model("grid"), ObstacleGrid)
+    assert isinstance(make_obstacle_model("sectors"), ObstacleSectors)
+    assert isinstance(make_ball_model("kalman", 0.05), KalmanBallModel)
+    assert isinstance(make_ball_model("hypotheses", 0.05), BallHypotheses)
+    with pytest.raises(ValueError, match="unknown obstacle model"):
+        make_obstacle_model("lidar")
+    with pytest.raises(ValueError, match="unknown ball model"):
+        make_ball_model("magic", 0.05)
+    with pytest.raises(ValueError, match="unknown obstacle model"):
+        LocalizingBrain("lowvar", obstacle_model="lidar")
+    m = Match(MatchConfig(seed=6), brains=lambda t, n: LocalizingBrain("lowvar", obstacle_model="grid"))
+    m.run(until=3.0)
+    assert isinstance(m.brains[0].obstacles, ObstacleGrid) and m.brains[0].obstacle_model is not None

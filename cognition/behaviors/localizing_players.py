@@ -50,11 +50,12 @@ from cognition.localization import VARIANTS, LocalizationParams, Localizer, make
 from cognition.oracle import OracleInput
 from cognition.params import check_non_negative, check_positive
 from cognition.representations import BallModel, BrainOutput, HeadRequest, RobotPose, SensorFrame
+from cognition.worldmodel import OBSTACLE_MODELS, make_obstacle_model
 from cognition.worldmodel.ball import KalmanBallModel
 from cognition.worldmodel.goal import GoalEstimate, GoalModel
 from cognition.worldmodel.hypotheses import BallBelief, BallHypotheses
 from cognition.worldmodel.messages import Role, TeamMessage
-from cognition.worldmodel.obstacles import ObstacleModel, ObstacleSectors
+from cognition.worldmodel.obstacles import ObstacleGrid, ObstacleModel, ObstacleSectors
 from cognition.worldmodel.team import TeamBallEstimate, TeamState, team_ball
 
 
@@ -85,8 +86,9 @@ class LocalizingBrain(OracleBrain):
     """A scripted player that localizes with ``variant`` and acts on the estimate.
 
     ``params`` tune the localization, ``oracle_params`` the scripted play, ``scan_params``
-    the head scans. ``localizer`` and ``pose`` (the latest
-    :class:`~cognition.representations.RobotPose`, team frame) exist after :meth:`reset`.
+    the head scans; ``obstacle_model`` names the obstacle model (``sectors`` or ``grid``).
+    ``localizer`` and ``pose`` (the latest :class:`~cognition.representations.RobotPose`,
+    team frame) exist after :meth:`reset`.
     """
 
     uses_oracle = True
@@ -97,9 +99,12 @@ class LocalizingBrain(OracleBrain):
         params: LocalizationParams | None = None,
         oracle_params: OracleParams | None = None,
         scan_params: HeadScanParams | None = None,
+        obstacle_model: str = "sectors",
     ):
         if variant not in VARIANTS:
             raise ValueError(f"unknown localization variant {variant!r}; valid: {list(VARIANTS)}")
+        if obstacle_model not in OBSTACLE_MODELS:
+            raise ValueError(f"unknown obstacle model {obstacle_model!r}; valid: {list(OBSTACLE_MODELS)}")
         super().__init__(oracle_params)
         self.variant = variant
         self.localization_params = params or LocalizationParams()
@@ -114,8 +119,9 @@ class LocalizingBrain(OracleBrain):
         """The CMU multi-hypothesis ball."""
         self.team = TeamState(1)
         """Teammates' latest reports."""
-        self.obstacles = ObstacleSectors()
-        """The 72-sector obstacle model (robot frame)."""
+        self.obstacle_model_name = obstacle_model
+        self.obstacles: ObstacleGrid | ObstacleSectors = make_obstacle_model(obstacle_model)
+        """The obstacle model chosen by name (robot frame)."""
         self.goal_model: GoalModel | None = None
         """Goal-post tracks over head scans (CMU IV.B)."""
         self.goal: GoalEstimate | None = None
@@ -143,7 +149,7 @@ class LocalizingBrain(OracleBrain):
         self.ball_model = KalmanBallModel(0.5 * context.field.dims.ball_diameter)
         self.hypotheses = BallHypotheses()
         self.team = TeamState(context.player_number)
-        self.obstacles = ObstacleSectors()
+        self.obstacles = make_obstacle_model(self.obstacle_model_name)
         self.obstacle_model = None
         dims = context.field.dims
         self.goal_model = GoalModel(dims.goal_inner_width + dims.goal_post_diameter)
