@@ -44,7 +44,10 @@ def oracle_brains(team: int, number: int) -> Brain:
 
 
 def localizing_brains(
-    variant: str, params: LocalizationParams | None = None, return_rule: str | None = None
+    variant: str,
+    params: LocalizationParams | None = None,
+    return_rule: str | None = None,
+    obstacle_model: str = "sectors",
 ) -> BrainFactory:
     """A factory of scripted players that localize with ``variant`` (one of ``VARIANTS``).
 
@@ -61,16 +64,18 @@ def localizing_brains(
         p = replace(p, return_rule=return_rule)
 
     def factory(team: int, number: int) -> Brain:
-        return LocalizingBrain(variant, p)
+        return LocalizingBrain(variant, p, obstacle_model=obstacle_model)
 
     return factory
 
 
-def default_brains(localization: str | None, params: LocalizationParams, return_rule: str) -> BrainFactory:
-    """Oracle players without localization, localizing players with it."""
+def default_brains(
+    localization: str | None, params: LocalizationParams, return_rule: str, obstacle_model: str = "sectors"
+) -> BrainFactory:
+    """Oracle players without localization, localizing players (with the named obstacle model) with it."""
     if localization is None:
         return oracle_brains
-    return localizing_brains(localization, params, return_rule)
+    return localizing_brains(localization, params, return_rule, obstacle_model)
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,7 @@ from typing import Any, TextIO
 
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
 from cognition.localization import VARIANTS
+from cognition.worldmodel import OBSTACLE_MODELS
 from teamsim.events import EventLog, LogEvent
 from teamsim.image_params import ImageParams
 from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, Match, MatchConfig
@@ -68,6 +69,12 @@ def _match_parser(sub: Any) -> None:
         choices=list(VARIANTS),
         default=None,
         help="localization variant the players run and act on (default: none, they read their true pose)",
+    )
+    p.add_argument(
+        "--obstacles",
+        choices=list(OBSTACLE_MODELS),
+        default=None,
+        help="obstacle model of the localizing players (default: sectors)",
     )
     p.add_argument("--half-seconds", type=float, default=None, help="length of a half in seconds (default 600)")
     p.add_argument(
@@ -168,6 +175,8 @@ def config_from_args(args: argparse.Namespace) -> MatchConfig:
         data["observation"] = args.observation
     if getattr(args, "localization", None) is not None:
         data["localization"] = args.localization
+    if getattr(args, "obstacles", None) is not None:
+        data["obstacle_model"] = args.obstacles
     if args.images is not None:
         current = data.get("images")
         data["images"] = dict(current, preset=args.images) if isinstance(current, dict) else args.images

@@ -37,6 +37,8 @@ localization             None        ``None``: scripted oracle players; a varian
                                      own pose estimate
 localization_params      default     LocalizationParams (or a mapping); its
                                      ``return_rule`` is taken from ``referee.rules``
+obstacle_model           sectors     obstacle model of the localizing players
+                                     (``sectors`` or ``grid``)
 =======================  ==========  =============================================
 
 Camera images are taken ``percepts.latency`` seconds before the cognition frame that
@@ -64,6 +66,7 @@ from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
 from cognition.representations import RobotPose, SensorFrame
+from cognition.worldmodel import OBSTACLE_MODELS
 from teamsim.brains import BrainFactory, LocalizationErrors, LocalizationSummary, default_brains
 from teamsim.brains import oracle_brains as oracle_brains  # re-exported
 from teamsim.channel import ChannelParams, TeamChannel
@@ -111,6 +114,7 @@ class MatchConfig:
     events: tuple[ScriptedEvent, ...] = ()
     localization: str | None = None
     localization_params: LocalizationParams = dataclass_field(default_factory=LocalizationParams)
+    obstacle_model: str = "sectors"
 
     def __post_init__(self) -> None:
         if not isinstance(self.seed, int) or self.seed < 0:
@@ -136,6 +140,7 @@ class MatchConfig:
             raise TypeError(f"MatchConfig.camera must be a CameraRig, got {self.camera!r}")
         if self.localization is not None:
             check_choice("MatchConfig", "localization", self.localization, VARIANTS)
+        check_choice("MatchConfig", "obstacle_model", self.obstacle_model, OBSTACLE_MODELS)
         lp = self.localization_params
         if isinstance(lp, Mapping):
             object.__setattr__(self, "localization_params", LocalizationParams.from_mapping(dict(lp)))
@@ -318,7 +323,7 @@ class Match:
         self.image_count = 0
         """Camera images delivered to brains so far (all robots)."""
         if brains is None:
-            brains = default_brains(c.localization, c.localization_params, c.referee.rules)
+            brains = default_brains(c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
         self.localization_errors = LocalizationErrors()
         """Errors of the brains' pose estimates (brains with a ``pose`` RobotPose; evaluation only)."""
         self.brains: list[Brain] = []

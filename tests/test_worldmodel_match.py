@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -92,3 +93,18 @@ def test_world_model_is_drawn_on_the_top_down_view():
         assert np.any(img[r - 2 : r + 3, c - 2 : c + 3] != plain[r - 2 : r + 3, c - 2 : c + 3]), (x, y)
     with pytest.raises(ValueError, match="obstacles"):
         Belief(0, 0.0, 0.0, 0.0, obstacles=np.zeros(3))
+
+
+def test_obstacle_model_is_chosen_in_the_match_config_and_cli(tmp_path):
+    from cognition.worldmodel.obstacles import ObstacleGrid
+    from teamsim.cli import main
+
+    with pytest.raises(ValueError, match="obstacle_model"):
+        MatchConfig(obstacle_model="lidar")
+    ref = RefereeParams(half_seconds=20, initial_seconds=0.5, ready_seconds=2.0, set_seconds=1.0)
+    m = Match(MatchConfig(seed=2, localization="odometry", obstacle_model="grid", referee=ref))
+    m.run(until=2.0)
+    assert all(isinstance(b.obstacles, ObstacleGrid) for b in m.brains)
+    code = main(["match", "--localization", "odometry", "--obstacles", "grid", "--half-seconds", "5",
+                 "--players-per-team", "1", "--out", str(tmp_path)])  # fmt: skip
+    assert code == 0 and json.loads((tmp_path / "config.json").read_text())["obstacle_model"] == "grid"
