@@ -23,8 +23,6 @@ Usage: ``python -m benchmarks.bench_images [--seconds 30] [--repeats 3] [--json 
 from __future__ import annotations
 
 import argparse
-import json
-import platform
 import statistics
 import time
 from pathlib import Path
@@ -32,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.bench_percepts import record_scenes
+from benchmarks.common import write_figures
 from cognition.camera import CameraRig
 from teamsim.images import ImageRenderer
 from teamsim.match import Match, MatchConfig
@@ -108,10 +107,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         f"budget 320x240: ideal {ideal:.0f} >= {BUDGET_IDEAL:.0f} {'OK' if ideal >= BUDGET_IDEAL else 'MISSED'}; "
         f"default {effects:.0f} >= {BUDGET_EFFECTS:.0f} {'OK' if effects >= BUDGET_EFFECTS else 'MISSED'}"
     )
-    if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        meta = {"python": platform.python_version(), "machine": platform.machine(), "processor": platform.processor()}
-        args.json.write_text(json.dumps({"figures": figures, "meta": meta}, indent=2))
+    write_figures(args.json, figures)
     return figures
 
 

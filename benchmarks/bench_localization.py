@@ -26,13 +26,12 @@ Usage: ``python -m benchmarks.bench_localization [--seconds 20] [--json out.json
 from __future__ import annotations
 
 import argparse
-import json
-import platform
 import time
 from pathlib import Path
 
 import numpy as np
 
+from benchmarks.common import record_robot_frames, write_figures
 from cognition.localization import LocalizationParams, make_localizer
 from cognition.localization.sensor import pack_observations, sensor_table
 from cognition.representations import SensorFrame
@@ -41,20 +40,6 @@ from teamsim.match import Match, MatchConfig
 COUNTS = (100, 300, 1000)
 VARIANTS = ("mcl", "lowvar", "amcl", "reset", "maturing")
 BUDGET_US = 60.0
-
-
-def record_frames(seconds: float, robot: int = 2) -> tuple[Match, list[SensorFrame]]:
-    """The sensor frames of one robot during ``seconds`` of a default 5 v 5 match."""
-    m = Match(MatchConfig(seed=1))
-    frames: list[SensorFrame] = []
-    last = None
-    while m.time < seconds:
-        m.step()
-        f = m.last_frames[robot]
-        if f is not None and f is not last:
-            frames.append(f)
-            last = f
-    return m, frames
 
 
 def time_updates(match: Match, frames: list[SensorFrame], variant: str, n: int) -> tuple[float, float]:
@@ -109,7 +94,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     ap.add_argument("--seconds", type=float, default=20.0, help="match time to record frames from (s)")
     ap.add_argument("--json", type=Path, default=None, help="also write the figures to this JSON file")
     args = ap.parse_args(argv)
-    match, frames = record_frames(args.seconds)
+    match, frames = record_robot_frames(args.seconds)
     table = sensor_table(LocalizationParams())
     nobs = [pack_observations(f.percepts, table).shape[0] for f in frames]
     figures: dict[str, float] = {"frames": float(len(frames)), "mean_observations": float(np.mean(nobs))}
@@ -128,10 +113,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     key = "lowvar_300_us_per_update_4obs"
     ok = figures[key] <= BUDGET_US
     print(f"budget: 300 particles, 4 observations: {figures[key]:.1f} us <= {BUDGET_US:.0f} {'OK' if ok else 'MISSED'}")
-    if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        meta = {"python": platform.python_version(), "machine": platform.machine()}
-        args.json.write_text(json.dumps({"figures": figures, "meta": meta}, indent=2))
+    write_figures(args.json, figures)
     return figures
 
 

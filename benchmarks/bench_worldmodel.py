@@ -22,35 +22,19 @@ Usage: ``python -m benchmarks.bench_worldmodel [--seconds 30] [--json out.json]`
 from __future__ import annotations
 
 import argparse
-import json
-import platform
 import time
 from pathlib import Path
 
 import numpy as np
 
+from benchmarks.common import record_robot_frames, write_figures
 from cognition.representations import RobotPose, SensorFrame
 from cognition.worldmodel.ball import KalmanBallModel
 from cognition.worldmodel.hypotheses import BallHypotheses
 from cognition.worldmodel.messages import TeamMessage
 from cognition.worldmodel.team import team_ball
-from teamsim.match import Match, MatchConfig
 
 BUDGET_US = 20.0
-
-
-def record_frames(seconds: float, robot: int = 2) -> list[SensorFrame]:
-    """One robot's sensor frames during ``seconds`` of a default 5 v 5 match."""
-    m = Match(MatchConfig(seed=1))
-    frames: list[SensorFrame] = []
-    last = None
-    while m.time < seconds:
-        m.step()
-        f = m.last_frames[robot]
-        if f is not None and f is not last:
-            frames.append(f)
-            last = f
-    return frames
 
 
 PASSES = 15
@@ -74,7 +58,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     ap.add_argument("--seconds", type=float, default=30.0, help="match time to record frames from (s)")
     ap.add_argument("--json", type=Path, default=None, help="also write the figures to this JSON file")
     args = ap.parse_args(argv)
-    frames = record_frames(args.seconds)
+    _, frames = record_robot_frames(args.seconds)
     pose = RobotPose(-1.0, 0.5, 0.3, np.eye(3) * 0.01, False, 0, np.zeros((0, 3)), np.zeros(0))
     mates = [
         TeamMessage(
@@ -114,10 +98,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     print(f"ball hypotheses   {hyp:6.1f} us per frame")
     ok = kalman + team <= BUDGET_US
     print(f"budget: Kalman ball + team ball {kalman + team:.1f} us <= {BUDGET_US:.0f} {'OK' if ok else 'MISSED'}")
-    if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        meta = {"python": platform.python_version(), "machine": platform.machine()}
-        args.json.write_text(json.dumps({"figures": figures, "meta": meta}, indent=2))
+    write_figures(args.json, figures)
     return figures
 
 
