@@ -22,8 +22,8 @@ from typing import Literal
 
 from cognition.field import Field
 from cognition.geometry import wrap_angle
-from cognition.localization.places import RETURN_OUTSIDE_TOUCHLINE
 from cognition.localization.places import initial_position as initial_position  # re-exported
+from cognition.localization.places import return_poses
 
 ReturnRule = Literal["spl2025", "spl2010"]
 RETURN_RULES: tuple[str, ...] = ("spl2025", "spl2010")
@@ -90,16 +90,14 @@ def return_position(
     """
     if rule == "spl2025":
         side = 1.0 if removed_at_y >= 0 else -1.0
-        x = -field_map.half_length + field_map.dims.penalty_mark_distance
-        y = side * (field_map.half_width + RETURN_OUTSIDE_TOUCHLINE)
     elif rule == "spl2010":
         side = -1.0 if ball_y > 0 else 1.0
         if ball_y == 0.0:
             side = 1.0 if removed_at_y >= 0 else -1.0
-        x = 0.0
-        y = side * field_map.half_width
     else:
         raise ValueError(f"unknown return rule {rule!r}; valid: {list(RETURN_RULES)}")
+    # the two spots a robot knows (cognition.localization.places): +y touchline first
+    x, y, theta = return_poses(field_map, rule)[0 if side > 0 else 1]
     while any(math.hypot(x - tx, y - ty) < 0.35 for tx, ty in taken):
         x -= 0.4
-    return (x, y, -side * math.pi / 2)
+    return (float(x), float(y), float(theta))
