@@ -56,7 +56,7 @@ from cognition.worldmodel.goal import GoalEstimate, GoalModel
 from cognition.worldmodel.hypotheses import BallBelief, BallHypotheses
 from cognition.worldmodel.messages import Role, TeamMessage
 from cognition.worldmodel.obstacles import ObstacleGrid, ObstacleModel, ObstacleSectors
-from cognition.worldmodel.team import TeamBallEstimate, TeamState, team_ball
+from cognition.worldmodel.team import TeamBallEstimate, TeamState, rotate_covariance, team_ball
 
 
 @dataclass(frozen=True)
@@ -198,13 +198,11 @@ class LocalizingBrain(OracleBrain):
         fields: dict[str, object] = {}
         if ball is not None and ball.level != "invalid" and math.isfinite(ball.field_x):
             c, s = math.cos(pose.theta), math.sin(pose.theta)
-            p = ball.covariance
+            cxx, cxy, cyy = rotate_covariance(ball.covariance, pose.theta)
             fields = {
                 "ball_x": _clip(ball.field_x, 99.0), "ball_y": _clip(ball.field_y, 99.0),
                 "ball_vx": _clip(c * ball.vx - s * ball.vy, 49.0), "ball_vy": _clip(s * ball.vx + c * ball.vy, 49.0),
-                "ball_age": min(ball.age, 1e6), "ball_cov_xx": c * c * p[0, 0] - 2 * c * s * p[0, 1] + s * s * p[1, 1],
-                "ball_cov_xy": c * s * (p[0, 0] - p[1, 1]) + (c * c - s * s) * p[0, 1],
-                "ball_cov_yy": s * s * p[0, 0] + 2 * c * s * p[0, 1] + c * c * p[1, 1],
+                "ball_age": min(ball.age, 1e6), "ball_cov_xx": cxx, "ball_cov_xy": cxy, "ball_cov_yy": cyy,
                 "ball_confidence": 1.0 if ball.level == "valid" else 0.5, "ball_valid": True,
             }  # fmt: skip
         msg = TeamMessage(

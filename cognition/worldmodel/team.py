@@ -19,6 +19,9 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+from numpy.typing import NDArray
+
 from cognition.representations import BallModel, RobotPose, SensorFrame
 from cognition.worldmodel.messages import MalformedMessageError, TeamMessage, unpack
 
@@ -63,6 +66,18 @@ class TeamState:
         return [msg for _, msg in self.latest.values()]
 
 
+def rotate_covariance(p: NDArray[np.float64], theta: float) -> tuple[float, float, float]:
+    """(xx, xy, yy) of the upper-left 2 x 2 block of ``p`` rotated by ``theta`` (rad): a
+    robot-frame position covariance expressed in the team frame of a robot heading ``theta``."""
+    c, s = math.cos(theta), math.sin(theta)
+    a, b, d = float(p[0, 0]), float(p[0, 1]), float(p[1, 1])
+    return (
+        c * c * a - 2 * c * s * b + s * s * d,
+        c * s * (a - d) + (c * c - s * s) * b,
+        s * s * a + 2 * c * s * b + c * c * d,
+    )
+
+
 def team_ball(
     own: BallModel | None,
     own_pose: RobotPose | None,
@@ -89,13 +104,8 @@ def team_ball(
 
     if own is not None and own_pose is not None and own.level != "invalid" and math.isfinite(own.field_x):
         c = own_pose.covariance
-        th = own_pose.theta
-        cs, sn = math.cos(th), math.sin(th)
-        p = own.covariance
         # own ball covariance rotated into the team frame, plus the pose's position variance
-        cxx = cs * cs * p[0, 0] - 2 * cs * sn * p[0, 1] + sn * sn * p[1, 1]
-        cyy = sn * sn * p[0, 0] + 2 * cs * sn * p[0, 1] + cs * cs * p[1, 1]
-        cxy = cs * sn * (p[0, 0] - p[1, 1]) + (cs * cs - sn * sn) * p[0, 1]
+        cxx, cxy, cyy = rotate_covariance(own.covariance, own_pose.theta)
         add(own.field_x, own.field_y, cxx, cxy, cyy, 0.5 * (c[0, 0] + c[1, 1]) + age_variance_per_second * own.age,
             own_number)  # fmt: skip
     for m in mates:
