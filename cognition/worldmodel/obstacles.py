@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 from cognition.params import check_positive
 from cognition.percepts import Col, Kind, Percepts
 from cognition.representations import OdometryReading
+from cognition.worldmodel.kalman_ball import camera_measurement
 
 SECTORS = 72
 
@@ -128,11 +129,10 @@ class ObstacleGrid:
             x, y = float(r[Col.X]), float(r[Col.Y])
             d = max(math.hypot(x, y), 0.05)
             ux, uy = x / d, y / d
-            h = max(cam.height, 0.1)
-            alpha = math.atan2(h, d)
-            sa = max(float(r[Col.SIGMA_ALPHA]), 1e-3)
-            sd_r = abs(h / math.tan(alpha + sa) - h / math.tan(alpha)) + p.robot_radius  # eq. 8, along
-            sd_t = math.tan(max(float(r[Col.SIGMA_BETA]), 1e-3)) * d + p.robot_radius  # eq. 12, across
+            sa, sb = max(float(r[Col.SIGMA_ALPHA]), 1e-3), max(float(r[Col.SIGMA_BETA]), 1e-3)
+            _, cov = camera_measurement(x, y, max(cam.height, 0.1), sa, sb)  # eqs. 8, 12-15
+            sd_r = math.sqrt(ux * ux * cov[0, 0] + 2 * ux * uy * cov[0, 1] + uy * uy * cov[1, 1]) + p.robot_radius
+            sd_t = math.sqrt(uy * uy * cov[0, 0] - 2 * ux * uy * cov[0, 1] + ux * ux * cov[1, 1]) + p.robot_radius
             ex, ey = self.cx - x, self.cy - y
             along = ex * ux + ey * uy
             across = -ex * uy + ey * ux
