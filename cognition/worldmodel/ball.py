@@ -28,7 +28,13 @@ from numpy.typing import NDArray
 
 from cognition.percepts import Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
-from cognition.worldmodel.kalman_ball import KalmanBallParams, _update_nb, measure_rows_nb, predict_move_nb, update
+from cognition.worldmodel.kalman_ball import (
+    KalmanBallParams,
+    gated_update_nb,
+    measure_rows_nb,
+    predict_move_nb,
+    update,
+)
 from cognition.worldmodel.messages import TeamMessage
 
 GATE = 25.0
@@ -97,25 +103,16 @@ class KalmanBallModel:
         )  # fmt: skip
         if self.x is None or self.p is None:
             return self._start(zs[0], rs[0])
-        best = None
-        for z, r in zip(zs, rs, strict=True):
-            ex, ey = z[0] - self.x[0], z[1] - self.x[1]
-            a, b, d = self.p[0, 0] + r[0, 0], self.p[0, 1] + r[0, 1], self.p[1, 1] + r[1, 1]
-            m2 = float((d * ex * ex - 2.0 * b * ex * ey + a * ey * ey) / max(a * d - b * b, 1e-18))
-            if best is None or m2 < best[0]:
-                best = (m2, z, r)
-        assert best is not None
-        m2, z, r = best
-        if m2 > GATE:  # an outlier, or the ball was moved: restart after RESTART_AFTER in a row
-            self._rejected += 1
-            if self._rejected >= RESTART_AFTER:
-                self._rejected = 0
-                return self._start(z, r)
-            return False
-        self._rejected = 0
-        assert self.x is not None and self.p is not None
-        self.x, self.p = _update_nb(self.x, self.p, z, r)
-        return True
+        x, p, updated, best = gated_update_nb(self.x, self.p, zs, rs, GATE)
+        if updated:
+            self._rejected = 0
+            self.x, self.p = x, p
+            return True
+        self._rejected += 1  # an outlier, or the ball was moved: restart after RESTART_AFTER in a row
+        if self._rejected >= RESTART_AFTER:
+            self._rejected = 0
+            return self._start(zs[best], rs[best])
+        return False
 
     def _start(self, z: NDArray[np.float64], r: NDArray[np.float64]) -> bool:
         v2 = self.params.initial_velocity_sigma**2

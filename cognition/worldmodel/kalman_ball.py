@@ -306,3 +306,20 @@ def measure_rows_nb(
         zs[i, 0], zs[i, 1] = z[0] + foot_x, z[1] + foot_y
         rs[i] = r
     return zs, rs
+
+
+@nb.njit(cache=True)
+def gated_update_nb(x, p, zs, rs, gate):  # pragma: no cover - compiled
+    """Update with the measurement (of ``zs``, ``rs``) nearest to the prediction by Mahalanobis
+    distance, if that distance squared is at most ``gate``. Returns (x, p, updated, best index)."""
+    best, best_m2 = 0, 1e300
+    for i in range(zs.shape[0]):
+        ex, ey = zs[i, 0] - x[0], zs[i, 1] - x[1]
+        a, b, d = p[0, 0] + rs[i, 0, 0], p[0, 1] + rs[i, 0, 1], p[1, 1] + rs[i, 1, 1]
+        m2 = (d * ex * ex - 2.0 * b * ex * ey + a * ey * ey) / max(a * d - b * b, 1e-18)
+        if m2 < best_m2:
+            best, best_m2 = i, m2
+    if best_m2 > gate:
+        return x, p, False, best
+    xo, po = _update_nb(x, p, zs[best].copy(), rs[best].copy())
+    return xo, po, True, best
