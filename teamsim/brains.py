@@ -70,7 +70,11 @@ def localizing_brains(
 
 
 def default_brains(
-    localization: str | None, params: LocalizationParams, return_rule: str, obstacle_model: str = "sectors"
+    players: str,
+    localization: str | None,
+    params: LocalizationParams,
+    return_rule: str,
+    obstacle_model: str = "sectors",
 ) -> BrainFactory:
     """Oracle players without localization, localizing players (with the named obstacle model) with it."""
     if localization is None:

@@ -29,7 +29,8 @@ from numpy.typing import NDArray
 
 from cognition.camera import CameraRig
 from cognition.field import FIELD_PRESETS, Field
-from cognition.representations import BallModel, RobotPose
+from cognition.representations import RobotPose
+from cognition.worldmodel.beliefs import Beliefs
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer, draw_annotations, save_png
 from teamsim.match import Match
@@ -94,13 +95,19 @@ def side_by_side(top: NDArray[np.uint8], camera: NDArray[np.uint8]) -> NDArray[n
 
 
 def belief_overlay(match: Match, team: int, number: int) -> Belief | None:
-    """The robot's latest pose estimate and particles, ball, team ball and obstacles,
+    """The robot's latest pose estimate and particles, ball, team ball, obstacles and goal,
     converted from its team (or robot) frame to the world frame.
 
-    ``None`` when the robot's brain has no ``pose`` :class:`~cognition.representations.RobotPose`.
+    Reads the brain's ``beliefs`` (:class:`~cognition.worldmodel.beliefs.Beliefs`) when it has
+    them; a brain without beliefs (or before its first frame) but with a ``pose``
+    :class:`~cognition.representations.RobotPose` gets only the pose and particles drawn.
+    ``None`` when the robot's brain has neither.
     """
     brain = match.brains[team * match.config.players_per_team + number - 1]
-    pose = getattr(brain, "pose", None)
+    beliefs = getattr(brain, "beliefs", None)
+    if not isinstance(beliefs, Beliefs):
+        beliefs = None
+    pose = beliefs.pose if beliefs is not None else getattr(brain, "pose", None)
     if not isinstance(pose, RobotPose):
         return None
     sign = match.referee.sign(team)
@@ -110,23 +117,20 @@ def belief_overlay(match: Match, team: int, number: int) -> Belief | None:
         parts[:, :2] *= -1.0
         parts[:, 2] += math.pi
     parts[:, 2] = (parts[:, 2] + math.pi) % (2.0 * math.pi) - math.pi
-    ball = getattr(brain, "ball", None)
+    if beliefs is None:
+        return Belief(team, x, y, theta, parts, bool(pose.lost), None, "invalid")
+    ball = beliefs.ball
     ball_xy, level = None, "invalid"
-    if isinstance(ball, BallModel) and math.isfinite(ball.field_x):
+    if math.isfinite(ball.field_x):
         ball_xy, level = (sign * ball.field_x, sign * ball.field_y), ball.level
-    tb = getattr(brain, "team_ball", None)
+    tb = beliefs.team_ball
     team_xy = (sign * tb.x, sign * tb.y) if tb is not None else None
-    obstacles = np.zeros((0, 2))
-    model = getattr(brain, "obstacle_model", None)
-    if model is not None and len(model.obstacles):  # robot frame -> world frame via the estimate
-        c, s = math.cos(theta), math.sin(theta)
-        rel = np.asarray(model.obstacles, dtype=np.float64)
-        obstacles = np.column_stack([x + c * rel[:, 0] - s * rel[:, 1], y + s * rel[:, 0] + c * rel[:, 1]])
+    c, s = math.cos(theta), math.sin(theta)  # robot frame -> world frame via the estimate
+    rel = np.asarray(beliefs.obstacles, dtype=np.float64).reshape(-1, 2)
+    obstacles = np.column_stack([x + c * rel[:, 0] - s * rel[:, 1], y + s * rel[:, 0] + c * rel[:, 1]])
     goal = None
-    est = getattr(brain, "goal", None)
-    if est is not None:  # robot frame -> world frame via the estimate
-        c, s = math.cos(theta), math.sin(theta)
-        (lx, ly), (rx, ry) = est.left, est.right
+    if beliefs.goal is not None:
+        (lx, ly), (rx, ry) = beliefs.goal.left, beliefs.goal.right
         goal = ((x + c * lx - s * ly, y + s * lx + c * ly), (x + c * rx - s * ry, y + s * rx + c * ry))
     return Belief(team, x, y, theta, parts, bool(pose.lost), ball_xy, level, team_xy, obstacles, goal)
 

@@ -39,6 +39,10 @@ localization_params      default     LocalizationParams (or a mapping); its
                                      ``return_rule`` is taken from ``referee.rules``
 obstacle_model           sectors     obstacle model of the localizing players
                                      (``sectors`` or ``grid``)
+players                  scripted    default brains: ``scripted`` (behaviors on beliefs:
+                                     truth without ``localization``, else the cognition
+                                     stack), ``oracle`` (the foundation's players) or
+                                     ``random`` (random walkers)
 =======================  ==========  =============================================
 
 Camera images are taken ``percepts.latency`` seconds before the cognition frame that
@@ -65,7 +69,7 @@ from cognition.gamestate import GameControlData, GameStateId, Penalty
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
-from cognition.representations import RobotPose, SensorFrame
+from cognition.representations import MotionRequest, RobotPose, SensorFrame
 from cognition.worldmodel import OBSTACLE_MODELS
 from teamsim.brains import BrainFactory, LocalizationErrors, LocalizationSummary, default_brains
 from teamsim.brains import oracle_brains as oracle_brains  # re-exported
@@ -92,6 +96,8 @@ from teamsim.world import PhysicsParams, World
 MAX_PLAYERS_PER_TEAM = 7
 OBSERVATIONS = ("percepts", "images", "none")
 """Valid values of :attr:`MatchConfig.observation`."""
+PLAYERS = ("scripted", "oracle", "random")
+"""Valid values of :attr:`MatchConfig.players` (the default brains)."""
 
 
 @dataclass(frozen=True)
@@ -115,6 +121,7 @@ class MatchConfig:
     localization: str | None = None
     localization_params: LocalizationParams = dataclass_field(default_factory=LocalizationParams)
     obstacle_model: str = "sectors"
+    players: str = "scripted"
 
     def __post_init__(self) -> None:
         if not isinstance(self.seed, int) or self.seed < 0:
@@ -141,6 +148,7 @@ class MatchConfig:
         if self.localization is not None:
             check_choice("MatchConfig", "localization", self.localization, VARIANTS)
         check_choice("MatchConfig", "obstacle_model", self.obstacle_model, OBSTACLE_MODELS)
+        check_choice("MatchConfig", "players", self.players, PLAYERS)
         lp = self.localization_params
         if isinstance(lp, Mapping):
             object.__setattr__(self, "localization_params", LocalizationParams.from_mapping(dict(lp)))
@@ -323,7 +331,7 @@ class Match:
         self.image_count = 0
         """Camera images delivered to brains so far (all robots)."""
         if brains is None:
-            brains = default_brains(c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
+            brains = default_brains(c.players, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
         self.localization_errors = LocalizationErrors()
         """Errors of the brains' pose estimates (brains with a ``pose`` RobotPose; evaluation only)."""
         self.brains: list[Brain] = []
@@ -350,6 +358,7 @@ class Match:
         """Per robot, the true body motion over its latest cognition frame (evaluation only)."""
         self.last_frames: list[SensorFrame | None] = [None] * (2 * n)
         self.wall_seconds = 0.0
+        self._cognition_done = False
         self.referee.start()
 
     # -- access ----------------------------------------------------------------------------
@@ -411,6 +420,34 @@ class Match:
     # -- running ---------------------------------------------------------------------------
     def step(self) -> None:
         """Advance by one physics step, running cognition when a frame is due."""
+        if not self._cognition_done:
+            self._before_physics()
+        self._cognition_done = False
+        events = self.world.step(self.time)
+        self.steps += 1
+        self.time = self.steps * self.world.dt
+        self.referee.update(self.time, events)
+
+    def advance_frame(self) -> None:
+        """Run physics steps until the next cognition frame, run that frame and stop before the
+        physics step that follows it, so that the caller can still change robots' commands
+        (:meth:`command`): how an environment applies a policy's action from that frame on."""
+        while True:
+            if not self._cognition_done and self._before_physics():
+                self._cognition_done = True
+                return
+            self.step()
+            if self.finished:
+                return
+
+    def command(self, index: int, motion: MotionRequest) -> None:
+        """Replace the command of robot ``index`` (ignored while it is penalised)."""
+        robot = self.world.robots[index]
+        if not robot.penalized:
+            robot.command(motion.walk, motion.kick, motion.head)
+
+    def _before_physics(self) -> bool:
+        """Scripted events, camera captures and, when due, a cognition frame; True if one ran."""
         while self._event_index < len(self._events) and self._events[self._event_index].time <= self.time:
             self.apply_event(self._events[self._event_index])
             self._event_index += 1
@@ -422,10 +459,8 @@ class Match:
         if self.time >= self._next_cognition - 1e-9:
             self._cognition()
             self._next_cognition += 1.0 / self.config.cognition_hz
-        events = self.world.step(self.time)
-        self.steps += 1
-        self.time = self.steps * self.world.dt
-        self.referee.update(self.time, events)
+            return True
+        return False
 
     def run(self, until: float | None = None, on_step: Callable[[Match], None] | None = None) -> MatchSummary:
         """Run until the match is finished (or until simulated time ``until``)."""

@@ -201,6 +201,14 @@ class Referee:
         self.world.place_ball(0.0, 0.0)
         self._enter(GameStateId.INITIAL, 0.0)
 
+    def play_now(self, now: float) -> None:
+        """Skip INITIAL, READY and SET: enter PLAYING at once without a kickoff (drills start here,
+        after the caller has placed robots and ball)."""
+        self.set_play = SetPlay.NONE
+        self._kickoff_until = now
+        self._enter(GameStateId.PLAYING, now)
+        self.fouls.reset_stuck(self.world.ball.position.x, self.world.ball.position.y, now)
+
     def _place(self, robot: Robot, team_pose: tuple[float, float, float], now: float, carried: bool) -> None:
         robot.teleport(*team_to_world(self.sign(robot.team), *team_pose))
         st = self.status[(robot.team, robot.number)]

@@ -273,7 +273,7 @@ def test_belief_overlay_converts_team_to_world_frame() -> None:
     brain = m.brains[2]  # team 1 player 1, attacking world -x in the first half
     assert m.referee.sign(1) == -1.0
     particles = np.array([[1.0, 2.0, 0.5], [-3.0, 0.5, -3.0]])
-    brain.pose = RobotPose(1.0, 2.0, 0.5, np.eye(3), True, 2, particles, np.full(2, 0.5), "x")  # type: ignore[attr-defined]
+    brain.localizer.pose = RobotPose(1.0, 2.0, 0.5, np.eye(3), True, 2, particles, np.full(2, 0.5), "x")  # type: ignore[attr-defined]
     b = belief_overlay(m, 1, 1)
     assert b is not None and b.team == 1 and b.lost
     assert (b.x, b.y) == (-1.0, -2.0) and b.theta == pytest.approx(0.5 - math.pi)

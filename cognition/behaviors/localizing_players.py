@@ -8,10 +8,11 @@ estimated own pose. The ball, teammates and opponents still come from the oracle
 the one exception that reads the true own pose, as a baseline.
 
 Body states are the oracle players' (stand, position, keeper, strike, support, wait), decided
-and carried out with the estimated pose. The brain also runs the world model of
+and carried out with the estimated pose. Localization and the world model of
 :mod:`cognition.worldmodel` (Kalman ball, ball hypotheses, teammates' reports, team ball,
-72-sector obstacles, goal model; the play does not use it yet) and sends
-:class:`~cognition.worldmodel.messages.TeamMessage` reports with its estimated pose and
+obstacles, goal model; the play does not use it yet) run in a
+:class:`~cognition.worldmodel.beliefs.CognitionBeliefs`; the brain sends its
+:class:`~cognition.worldmodel.messages.TeamMessage` reports with the estimated pose and
 ball, spreading the team's message budget over the game.
 The head has its own small state machine, so that the camera sees landmarks:
 
@@ -42,21 +43,21 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-import numpy as np
-
 from cognition.behaviors.oracle_players import OracleBrain, OracleParams
 from cognition.brain import BrainContext
-from cognition.localization import VARIANTS, LocalizationParams, Localizer, make_localizer
+from cognition.localization import VARIANTS, LocalizationParams, Localizer
 from cognition.oracle import OracleInput
 from cognition.params import check_non_negative, check_positive
 from cognition.representations import BallModel, BrainOutput, HeadRequest, RobotPose, SensorFrame
-from cognition.worldmodel import OBSTACLE_MODELS, make_obstacle_model
-from cognition.worldmodel.ball import KalmanBallModel
-from cognition.worldmodel.goal import GoalEstimate, GoalModel
-from cognition.worldmodel.hypotheses import BallBelief, BallHypotheses
-from cognition.worldmodel.messages import Role, TeamMessage
+from cognition.worldmodel import OBSTACLE_MODELS
+from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs
+from cognition.worldmodel.goal import GoalEstimate
+from cognition.worldmodel.messages import Role
 from cognition.worldmodel.obstacles import ObstacleGrid, ObstacleModel, ObstacleSectors
-from cognition.worldmodel.team import TeamBallEstimate, TeamState, rotate_covariance, team_ball
+from cognition.worldmodel.team import TeamBallEstimate, TeamState
+
+_ROLES = {"keeper": Role.KEEPER, "strike": Role.STRIKER, "support": Role.SUPPORTER}
+"""The team-message role of each body state (others send :attr:`Role.NONE`)."""
 
 
 @dataclass(frozen=True)
@@ -87,8 +88,11 @@ class LocalizingBrain(OracleBrain):
 
     ``params`` tune the localization, ``oracle_params`` the scripted play, ``scan_params``
     the head scans; ``obstacle_model`` names the obstacle model (``sectors`` or ``grid``).
-    ``localizer`` and ``pose`` (the latest :class:`~cognition.representations.RobotPose`,
-    team frame) exist after :meth:`reset`.
+    Localization and world model run in a
+    :class:`~cognition.worldmodel.beliefs.CognitionBeliefs` (``world_model``, built in
+    :meth:`reset`); ``beliefs`` is its latest :class:`~cognition.worldmodel.beliefs.Beliefs`
+    and the other world-model attributes are read-only views of it (``None`` before
+    :meth:`reset`).
     """
 
     uses_oracle = True
@@ -109,79 +113,79 @@ class LocalizingBrain(OracleBrain):
         self.variant = variant
         self.localization_params = params or LocalizationParams()
         self.scan_params = scan_params or HeadScanParams()
-        self.localizer: Localizer | None = None
-        """The robot's localizer (built in :meth:`reset`)."""
-        self.pose: RobotPose | None = None
-        """The latest pose estimate (team frame; ``None`` before :meth:`reset`)."""
-        self.ball_model: KalmanBallModel | None = None
-        """The Kalman ball (robot frame), fed with percepts, odometry and teammates' reports."""
-        self.hypotheses = BallHypotheses()
-        """The CMU multi-hypothesis ball."""
-        self.team = TeamState(1)
-        """Teammates' latest reports."""
         self.obstacle_model_name = obstacle_model
-        self.obstacles: ObstacleGrid | ObstacleSectors = make_obstacle_model(obstacle_model)
-        """The obstacle model chosen by name (robot frame)."""
-        self.goal_model: GoalModel | None = None
-        """Goal-post tracks over head scans (CMU IV.B)."""
-        self.goal: GoalEstimate | None = None
-        self.ball: BallModel | None = None
-        self.belief: BallBelief | None = None
-        self.team_ball: TeamBallEstimate | None = None
-        self.obstacle_model: ObstacleModel | None = None
+        self.world_model: CognitionBeliefs | None = None
+        """Localization and world model on the robot's own frames (built in :meth:`reset`)."""
         self.head_state = "ball"
         self._scan_start = 0.0
         self._scan_side = 1.0
 
+    # -- read-only views of the world model -------------------------------------------------
+    @property
+    def beliefs(self) -> Beliefs | None:
+        """The latest beliefs (frames in :mod:`cognition.worldmodel.beliefs`; ``None`` before the first frame)."""
+        return self.world_model.latest if self.world_model is not None else None
+
+    @property
+    def localizer(self) -> Localizer | None:
+        """The robot's localizer (``None`` before :meth:`reset`)."""
+        return self.world_model.localizer if self.world_model is not None else None
+
+    @property
+    def pose(self) -> RobotPose | None:
+        """The latest pose estimate (team frame; the localizer's initial pose before the first frame)."""
+        return self.world_model.localizer.pose if self.world_model is not None else None
+
+    @property
+    def ball(self) -> BallModel | None:
+        """The Kalman ball (robot and team frame) of the latest frame."""
+        b = self.beliefs
+        return b.ball if b is not None else None
+
+    @property
+    def team_ball(self) -> TeamBallEstimate | None:
+        """The team's fused ball (team frame) of the latest frame."""
+        b = self.beliefs
+        return b.team_ball if b is not None else None
+
+    @property
+    def goal(self) -> GoalEstimate | None:
+        """The goal seen in the latest head scans (robot frame)."""
+        b = self.beliefs
+        return b.goal if b is not None else None
+
+    @property
+    def team(self) -> TeamState | None:
+        """Teammates' latest reports."""
+        return self.world_model.team if self.world_model is not None else None
+
+    @property
+    def obstacles(self) -> ObstacleGrid | ObstacleSectors | None:
+        """The obstacle model chosen by name (robot frame)."""
+        return self.world_model.obstacles if self.world_model is not None else None
+
+    @property
+    def obstacle_model(self) -> ObstacleModel | None:
+        """The obstacle model's output of the latest frame (robot frame)."""
+        return self.world_model.obstacle_model if self.world_model is not None else None
+
+    # -- cognition ---------------------------------------------------------------------------
     def reset(self, context: BrainContext) -> None:
-        """Remember the match facts and build a fresh localizer from the brain's random stream."""
+        """Remember the match facts and build a fresh world model (its localizer draws from the brain's stream)."""
         super().reset(context)
-        rng = context.rng if context.rng is not None else np.random.default_rng(context.player_number)
-        self.localizer = make_localizer(
-            self.variant,
-            context.field,
-            params=self.localization_params,
-            rng=rng,
-            player_number=context.player_number,
-            players_per_team=context.players_per_team,
-        )
-        self.pose = self.localizer.pose
-        self.ball_model = KalmanBallModel(0.5 * context.field.dims.ball_diameter)
-        self.hypotheses = BallHypotheses()
-        self.team = TeamState(context.player_number)
-        self.obstacles = make_obstacle_model(self.obstacle_model_name)
-        self.obstacle_model = None
-        dims = context.field.dims
-        self.goal_model = GoalModel(dims.goal_inner_width + dims.goal_post_diameter)
-        self.goal = None
-        self.ball = None
-        self.belief = None
-        self.team_ball = None
+        self.world_model = CognitionBeliefs(context, self.variant, self.localization_params, self.obstacle_model_name)
         self.head_state = "ball"
         self._scan_start = 0.0
         self._scan_side = 1.0
 
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Localize, then play the oracle players' game with the estimated own pose."""
-        if self.context is None or self.localizer is None:
+        if self.context is None or self.world_model is None:
             raise RuntimeError("LocalizingBrain.think called before reset()")
         if oracle is None:
             raise ValueError("LocalizingBrain needs the oracle input for the ball and the other robots")
         me = oracle.self_pose
-        truth = (me.x, me.y, me.theta) if self.variant == "oracle" else None
-        pose = self.localizer.update(frame, truth)
-        self.pose = pose
-        mates = self.team.update(frame)
-        assert self.ball_model is not None
-        self.ball = self.ball_model.update(frame, pose, mates)
-        self.belief = self.hypotheses.update(frame, pose, mates)
-        self.team_ball = team_ball(self.ball, pose, self.context.player_number, mates)
-        self.obstacle_model = self.obstacles.update(frame.time, frame.odometry, frame.percepts)
-        assert self.goal_model is not None
-        o = frame.odometry
-        self.goal_model.move_robot(o.dx, o.dy, o.dtheta, 1.0 / self.context.cognition_hz)
-        self.goal_model.add_percepts(frame.percepts)
-        self.goal = self.goal_model.estimate()
+        pose = self.world_model.update(frame, (me.x, me.y, me.theta)).pose
         believed = replace(oracle, self_pose=replace(me, x=pose.x, y=pose.y, theta=pose.theta))
         out = super().think(frame, believed)
         self.head_state = self._head_transition(frame, pose)
@@ -190,27 +194,9 @@ class LocalizingBrain(OracleBrain):
         return out
 
     def _payload(self, frame: SensorFrame, oracle: OracleInput) -> bytes:
-        """The team message (:mod:`cognition.worldmodel.messages`): the estimated pose, the own
-        Kalman ball in the team frame, the role, and the fallen, penalised and lost flags."""
-        assert self.context is not None and self.pose is not None
-        pose, ball = self.pose, self.ball
-        role = {"keeper": Role.KEEPER, "strike": Role.STRIKER, "support": Role.SUPPORTER}.get(self.state, Role.NONE)
-        fields: dict[str, object] = {}
-        if ball is not None and ball.level != "invalid" and math.isfinite(ball.field_x):
-            c, s = math.cos(pose.theta), math.sin(pose.theta)
-            cxx, cxy, cyy = rotate_covariance(ball.covariance, pose.theta)
-            fields = {
-                "ball_x": _clip(ball.field_x, 99.0), "ball_y": _clip(ball.field_y, 99.0),
-                "ball_vx": _clip(c * ball.vx - s * ball.vy, 49.0), "ball_vy": _clip(s * ball.vx + c * ball.vy, 49.0),
-                "ball_age": min(ball.age, 1e6), "ball_cov_xx": cxx, "ball_cov_xy": cxy, "ball_cov_yy": cyy,
-                "ball_confidence": 1.0 if ball.level == "valid" else 0.5, "ball_valid": True,
-            }  # fmt: skip
-        msg = TeamMessage(
-            player=self.context.player_number, x=_clip(pose.x, 99.0), y=_clip(pose.y, 99.0), theta=pose.theta,
-            pose_std=min(pose.position_std, 1e6), role=role, fallen=frame.fallen, penalized=bool(frame.penalty),
-            lost=pose.lost, **fields,  # type: ignore[arg-type]
-        )  # fmt: skip
-        return msg.pack()
+        """The team message (:meth:`CognitionBeliefs.message`) with the role of the current state."""
+        assert self.world_model is not None
+        return self.world_model.message(_ROLES.get(self.state, Role.NONE))
 
     # -- head ------------------------------------------------------------------------------
     def _head_transition(self, frame: SensorFrame, pose: RobotPose) -> str:
@@ -232,8 +218,3 @@ class LocalizingBrain(OracleBrain):
         pos = frac if leg % 2 == 0 else 1.0 - frac
         yaw = self._scan_side * p.scan_yaw * (1.0 - 2.0 * pos)
         return HeadRequest(yaw=yaw, pitch=p.scan_pitch, speed=p.scan_speed)
-
-
-def _clip(v: float, limit: float) -> float:
-    """``v`` limited to [-limit, limit] (the message's ranges)."""
-    return max(-limit, min(limit, float(v)))

@@ -1,0 +1,102 @@
+"""Environment throughput: decision steps per second of ``soccer_v0`` and the Gymnasium drills.
+
+Setting of the issue's budget: 5 v 5, all 10 robots controlled (``control="both"``), decisions
+at 10 Hz, physics at 100 Hz, random continuous actions, one core. One *parallel step* is one
+decision of all agents (0.1 simulated s); one *agent step* is one agent's decision, which is
+what PettingZoo's AEC ``env.step`` and Stable-Baselines3 (one vectorised env per agent under
+parameter sharing) count as an environment step. Each figure is the best of ``--passes`` runs
+of ``--steps`` parallel steps (the development machine is a shared VM).
+
+==================================  ==========================================================
+figure                              meaning
+==================================  ==========================================================
+{mode}_c{hz}_parallel_steps_per_s   parallel steps per wall second, cognition at ``hz``
+{mode}_c{hz}_agent_steps_per_s      the same times the 10 agents
+{mode}_c{hz}_real_time_factor       simulated seconds per wall second
+striker_truth_steps_per_s           ``teamsim/Striker-v0`` steps per second (truth, discrete)
+==================================  ==========================================================
+
+``mode`` is ``truth`` or ``percepts``; ``images`` is refused by the environments until the
+vision pipeline exists.
+
+Usage: ``python -m benchmarks.bench_envs [--steps 300] [--passes 3] [--json out/bench_envs.json]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import gymnasium
+
+import envs  # noqa: F401  (registers the Gymnasium ids)
+from benchmarks.common import write_figures
+from envs import soccer_v0
+
+
+def bench_soccer(observation: str, cognition_hz: float, steps: int, passes: int) -> float:
+    """Best parallel steps per second over ``passes`` runs (5 v 5, both teams controlled)."""
+    env = soccer_v0.parallel_env(
+        players_per_team=5, control="both", observation=observation, cognition_hz=cognition_hz,
+        start="playing", max_cycles=10**9,
+    )  # fmt: skip
+    space = env.action_space("home_1")
+    space.seed(0)
+    best = 0.0
+    for k in range(passes):
+        env.reset(seed=k)
+        actions = [{a: space.sample() for a in env.possible_agents} for _ in range(steps)]
+        t = time.perf_counter()
+        for act in actions:
+            env.step(act)
+        best = max(best, steps / (time.perf_counter() - t))
+    return best
+
+
+def bench_striker(steps: int, passes: int) -> float:
+    """Best ``teamsim/Striker-v0`` steps per second (truth, discrete, random actions, resets included)."""
+    env = gymnasium.make("teamsim/Striker-v0", observation="truth", action_type="discrete")
+    env.action_space.seed(0)
+    best = 0.0
+    for k in range(passes):
+        env.reset(seed=k)
+        t = time.perf_counter()
+        for _ in range(steps):
+            _, _, term, trunc, _ = env.step(env.action_space.sample())
+            if term or trunc:
+                env.reset()
+        best = max(best, steps / (time.perf_counter() - t))
+    return best
+
+
+def main(argv: list[str] | None = None) -> dict[str, float]:
+    """Run the benchmark, print the figures, write JSON if asked."""
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--steps", type=int, default=300, help="parallel steps per pass")
+    ap.add_argument("--passes", type=int, default=3)
+    ap.add_argument("--json", type=Path, default=None)
+    args = ap.parse_args(argv)
+    figures: dict[str, float] = {}
+    for mode, hz, steps in (
+        ("truth", 30.0, args.steps),
+        ("truth", 10.0, args.steps),
+        ("percepts", 30.0, args.steps // 3),
+    ):
+        per_s = bench_soccer(mode, hz, max(10, steps), args.passes)
+        key = f"{mode}_c{int(hz)}"
+        figures[f"{key}_parallel_steps_per_s"] = per_s
+        figures[f"{key}_agent_steps_per_s"] = 10.0 * per_s
+        figures[f"{key}_real_time_factor"] = per_s / 10.0
+        print(
+            f"soccer_v0 5v5 {mode:8s} cognition {int(hz):2d} Hz: {per_s:7.0f} parallel steps/s, "
+            f"{10 * per_s:7.0f} agent steps/s (budget 3,000 in truth mode), {per_s / 10:5.1f}x real time"
+        )
+    figures["striker_truth_steps_per_s"] = bench_striker(args.steps * 2, args.passes)
+    print(f"teamsim/Striker-v0 truth discrete: {figures['striker_truth_steps_per_s']:.0f} steps/s")
+    write_figures(args.json, figures)
+    return figures
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,274 @@
+"""Policy actions and how a robot carries them out, and the brain that a policy drives.
+
+Two action types, shared by every agent of an environment:
+
+**continuous** (7 floats in [-1, 1]; values outside are clipped, NaN or infinity is an error):
+
+=====  ====================================================================================
+index  meaning
+=====  ====================================================================================
+0      forward speed, times ``max_forward`` (m/s; the walking engine limits backward speed)
+1      sideways speed, times ``max_sideways`` (m/s, positive to the left)
+2      turn rate, times ``max_turn`` (rad/s, counter-clockwise)
+3      kick: above 0 the robot kicks now with this strength (the kick misses without a ball)
+4      kick direction, times ``kick_angle`` (rad, robot frame)
+5      head yaw target, times ``head_yaw`` (rad)
+6      head pitch target, mapped from [-1, 1] to [``pitch_min``, ``pitch_max``] (rad)
+=====  ====================================================================================
+
+**discrete** (an integer in ``0..len(MACROS)-1``): macro-actions that run a scripted skill
+(:mod:`cognition.behaviors.skills`) closed-loop on the latest beliefs until the next decision,
+with the head control of the scripted players (``scan`` forces a landmark scan):
+
+=====  ==============  ====================================================================
+index  name            skill
+=====  ==============  ====================================================================
+0      stand           stand still
+1      go_to_ball      walk to the line-up spot behind the ball, facing the aim; no kick
+2      kick_to_goal    approach, align and kick toward the opponent goal
+3      pass            kick toward the best-placed teammate
+4      defend          stand between the ball and the own goal
+5      support         hold a supporting spot relative to the ball
+6      scan            stand and sweep the head for landmarks
+=====  ==============  ====================================================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.behaviors.observation import ObservationBuilder
+from cognition.brain import BrainContext
+from cognition.oracle import OracleInput
+from cognition.params import check_positive
+from cognition.representations import BrainOutput, HeadRequest, KickRequest, MotionRequest, SensorFrame, WalkRequest
+from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, TruthBeliefs
+
+ActionType = Literal["continuous", "discrete"]
+ACTION_TYPES: tuple[str, ...] = ("continuous", "discrete")
+CONTINUOUS_SIZE = 7
+"""Length of a continuous action."""
+MACROS: tuple[str, ...] = ("stand", "go_to_ball", "kick_to_goal", "pass", "defend", "support", "scan")
+"""The discrete macro-actions, by index."""
+
+
+class ActionError(ValueError):
+    """An action that cannot be carried out (wrong shape, not finite, not a valid index)."""
+
+
+@dataclass(frozen=True)
+class ActionParams:
+    """Scales of the continuous action (NAO-like limits; the walking engine clips further)."""
+
+    max_forward: float = 0.25
+    max_sideways: float = 0.15
+    max_turn: float = 1.0
+    kick_angle: float = 1.05
+    head_yaw: float = 2.0
+    pitch_min: float = -0.3
+    pitch_max: float = 0.5
+
+    def __post_init__(self) -> None:
+        check_positive(
+            "ActionParams", max_forward=self.max_forward, max_sideways=self.max_sideways, max_turn=self.max_turn,
+            kick_angle=self.kick_angle, head_yaw=self.head_yaw,
+        )  # fmt: skip
+        if not self.pitch_min < self.pitch_max:
+            raise ValueError(f"ActionParams.pitch_min ({self.pitch_min}) must be below pitch_max ({self.pitch_max})")
+
+
+def check_action(action: object, action_type: str) -> NDArray[np.float64] | int:
+    """The action as the robot will use it: a clipped float vector or a macro index.
+
+    Raises :class:`ActionError` naming the problem for a wrong shape, a non-finite value or an
+    invalid macro index. Continuous values outside [-1, 1] are clipped (documented behaviour).
+    """
+    if action_type == "discrete":
+        a = np.asarray(action)
+        if a.shape not in ((), (1,)) or not (np.issubdtype(a.dtype, np.integer) or a.dtype == bool):
+            if (
+                a.shape in ((), (1,))
+                and np.issubdtype(a.dtype, np.floating)
+                and float(a.reshape(())) == int(a.reshape(()))
+            ):
+                a = a.astype(np.int64)
+            else:
+                raise ActionError(f"a discrete action must be one integer in 0..{len(MACROS) - 1}, got {action!r}")
+        k = int(a.reshape(()))
+        if not 0 <= k < len(MACROS):
+            raise ActionError(f"discrete action {k} is out of range 0..{len(MACROS) - 1} ({', '.join(MACROS)})")
+        return k
+    if action_type != "continuous":
+        raise ValueError(f"unknown action type {action_type!r}; valid: {list(ACTION_TYPES)}")
+    try:
+        v = np.asarray(action, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise ActionError(f"a continuous action must be {CONTINUOUS_SIZE} numbers, got {action!r}") from e
+    if v.shape != (CONTINUOUS_SIZE,):
+        raise ActionError(f"a continuous action must have shape ({CONTINUOUS_SIZE},), got shape {v.shape}")
+    if not np.all(np.isfinite(v)):
+        raise ActionError(f"a continuous action must be finite, got {v.tolist()}")
+    return np.clip(v, -1.0, 1.0)
+
+
+def continuous_motion(a: NDArray[np.float64], p: ActionParams) -> MotionRequest:
+    """The motion request of a checked continuous action (module table)."""
+    head = HeadRequest(
+        yaw=float(a[5]) * p.head_yaw,
+        pitch=p.pitch_min + 0.5 * (float(a[6]) + 1.0) * (p.pitch_max - p.pitch_min),
+    )
+    if a[3] > 0.0:
+        return MotionRequest(kick=KickRequest(direction=float(a[4]) * p.kick_angle, strength=float(a[3])), head=head)
+    walk = WalkRequest(
+        forward=float(a[0]) * p.max_forward, left=float(a[1]) * p.max_sideways, turn=float(a[2]) * p.max_turn
+    )
+    return MotionRequest(walk=walk, head=head)
+
+
+class PolicyBrain:
+    """A robot whose decisions come from outside (an RL policy) and whose inputs are beliefs.
+
+    ``beliefs`` picks the provider (``truth`` or ``cognition``, with the localization
+    ``variant`` and ``obstacle_model``). Each frame :meth:`think` updates the beliefs and
+    carries out the current action: a continuous action is held, a macro-action re-runs its
+    skill on the new beliefs. :meth:`observation` gives the policy's view, :meth:`act` sets a
+    new action and returns the motion it means now.
+    """
+
+    def __init__(
+        self,
+        action_type: str = "continuous",
+        beliefs: str = "truth",
+        variant: str = "maturing",
+        obstacle_model: str = "sectors",
+        params: ActionParams | None = None,
+    ):
+        if action_type not in ACTION_TYPES:
+            raise ValueError(f"unknown action type {action_type!r}; valid: {list(ACTION_TYPES)}")
+        if beliefs not in ("truth", "cognition"):
+            raise ValueError(f"unknown beliefs {beliefs!r}; valid: ['truth', 'cognition']")
+        self.action_type = action_type
+        self.beliefs_mode = beliefs
+        self.variant = variant
+        self.obstacle_model = obstacle_model
+        self.params = params or ActionParams()
+        self.uses_oracle = beliefs == "truth" or variant == "oracle"
+        self.context: BrainContext | None = None
+        self.provider: TruthBeliefs | CognitionBeliefs | None = None
+        self.beliefs: Beliefs | None = None
+        """The latest beliefs (``None`` before the first frame)."""
+        self.pose = None
+        self.action: NDArray[np.float64] | int = np.zeros(CONTINUOUS_SIZE) if action_type == "continuous" else 0
+        self.kicks = 0
+        """Kick requests issued so far."""
+        self._pending: tuple[SensorFrame, OracleInput | None] | None = None
+
+    def reset(self, context: BrainContext) -> None:
+        """Build the belief provider, the skills and the observation builder."""
+        self.context = context
+        if self.beliefs_mode == "truth":
+            self.provider = TruthBeliefs(context)
+        else:
+            self.provider = CognitionBeliefs(context, self.variant, obstacle_model=self.obstacle_model)
+        if self.action_type == "discrete":
+            from cognition.behaviors.skills import HeadControl, Skills
+
+            self.skills = Skills(context)
+            self.head = HeadControl(context)
+        self.observer = ObservationBuilder(context.field, context.players_per_team, context.team_number)
+        self.beliefs = None
+        self._pending: tuple[SensorFrame, OracleInput | None] | None = None
+        self.pose = None
+        self.action = np.zeros(CONTINUOUS_SIZE) if self.action_type == "continuous" else 0
+        self._last_message = -1e9
+
+    def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
+        """Update the beliefs, then carry out the current action."""
+        if self.provider is None or self.context is None:
+            raise RuntimeError("PolicyBrain.think called before reset()")
+        if isinstance(self.provider, TruthBeliefs):
+            # the oracle providers hold no state: read the truth only when it is needed
+            self._pending = (frame, oracle)
+            self.beliefs = None
+            if frame.penalty or frame.picked_up or frame.fallen:
+                return BrainOutput(motion=MotionRequest())
+            if self.action_type == "continuous":
+                return BrainOutput(motion=self._count(continuous_motion(self.action, self.params)))  # type: ignore[arg-type]
+            self.beliefs = self.provider.update(frame, oracle)
+        else:
+            me = oracle.self_pose if oracle is not None else None
+            self.beliefs = self.provider.update(frame, (me.x, me.y, me.theta) if me is not None else None)
+            self.pose = self.beliefs.pose
+        return BrainOutput(motion=self.motion(), message=self._message(frame))
+
+    def observation(self) -> NDArray[np.float32]:
+        """The policy's observation of the latest beliefs (:mod:`cognition.behaviors.observation`)."""
+        return self.observer.build(self.latest_beliefs())
+
+    def latest_beliefs(self) -> Beliefs:
+        """The beliefs of the latest frame (computed now if the truth provider deferred them)."""
+        if self.beliefs is None:
+            if self._pending is None or not isinstance(self.provider, TruthBeliefs):
+                raise RuntimeError("PolicyBrain has no beliefs before its first frame")
+            self.beliefs = self.provider.update(*self._pending)
+        return self.beliefs
+
+    def act(self, action: NDArray[np.float64] | int) -> MotionRequest:
+        """Take a checked action (:func:`check_action`); returns the motion it means now."""
+        self.action = action
+        return self.motion()
+
+    def motion(self) -> MotionRequest:
+        """The motion of the current action on the latest beliefs (standing while not playing)."""
+        if self.beliefs is None and self._pending is None:
+            return MotionRequest()
+        b = self.latest_beliefs()
+        if b.penalty or b.picked_up or b.fallen:
+            return MotionRequest()
+        if self.action_type == "continuous":
+            m = continuous_motion(self.action, self.params)  # type: ignore[arg-type]
+        else:
+            m = self._macro(int(self.action), b)  # type: ignore[arg-type]
+        return self._count(m)
+
+    def _count(self, m: MotionRequest) -> MotionRequest:
+        self.kicks += m.kick is not None
+        return m
+
+    def _macro(self, k: int, b: Beliefs) -> MotionRequest:
+        sk = self.skills
+        name = MACROS[k]
+        if name == "stand":
+            m = sk.stand(b)
+        elif name == "go_to_ball":
+            m = sk.go_to_ball(b)
+        elif name == "kick_to_goal":
+            m = sk.kick_to_goal(b)
+        elif name == "pass":
+            m = sk.pass_to(b)
+        elif name == "defend":
+            m = sk.defend(b)
+        elif name == "support":
+            m = sk.support(b, b.player_number)
+        else:
+            m = sk.stand(b)
+        head = self.head.request(b) if name != "scan" else self.head.scan(b)
+        return replace(m, head=head)
+
+    def _message(self, frame: SensorFrame) -> bytes | None:
+        """Team messages in cognition mode, once per second while playing (teammates' team ball)."""
+        if not isinstance(self.provider, CognitionBeliefs) or frame.game.state != 3:
+            return None
+        assert self.context is not None
+        budget = frame.game.team(self.context.team_number).message_budget
+        remaining = max(1.0, float(frame.game.secs_remaining) * (2.0 if frame.game.first_half else 1.0))
+        interval = max(1.0, remaining * self.context.players_per_team / max(1, budget))
+        if budget <= 0 or frame.time - self._last_message < interval or math.isnan(frame.time):
+            return None
+        self._last_message = frame.time
+        return self.provider.message()

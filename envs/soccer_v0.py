@@ -1,0 +1,172 @@
+# ruff: noqa: E501  (the docstring holds the PettingZoo-style markdown tables)
+"""# Soccer (teamsim) — multi-agent RoboCup SPL soccer on beliefs
+
+```python
+from envs import soccer_v0
+env = soccer_v0.parallel_env(players_per_team=5, control="home", observation="percepts")
+observations, infos = env.reset(seed=0)
+```
+
+Two teams of simulated NAO robots play SPL soccer under a referee (kickoffs, goals, half time
+with side switch, penalties). The agents are the robots of the team(s) named by ``control``;
+every other robot runs the scripted team play (:mod:`cognition.behaviors.team_play`) or
+random walking. Each agent's observation is built from its own robot's beliefs: the full
+cognition stack on synthesized camera percepts (``percepts``) or the oracle providers
+(``truth``). Physics runs at 100 Hz, cognition at ``cognition_hz`` and decisions at
+``decision_hz``; between decisions a continuous action is held and a macro-action keeps
+running on fresh beliefs. Machinery: :mod:`envs.core`.
+
+| | |
+|---|---|
+| Actions | continuous or discrete (``action_type``) |
+| Parallel API | yes (``parallel_env``); AEC through ``env`` |
+| Agents | ``home_1`` ... ``home_N`` and/or ``away_1`` ... ``away_N`` (``_1`` is the goalkeeper) |
+| Action space | continuous: ``Box(-1, 1, (7,), float32)``: forward, sideways, turn, kick (> 0 kicks with that strength), kick direction, head yaw, head pitch; values outside [-1, 1] are clipped, NaN/inf or a wrong shape raises ``ActionError`` and changes nothing. discrete: ``Discrete(7)``: stand, go_to_ball, kick_to_goal, pass, defend, support, scan (:mod:`cognition.behaviors.actions`) |
+| Observation space | ``Box(-1, 1, (41 + 5 (N - 1) + 15,), float32)``: own pose estimate and its uncertainty, the ball model (relative position, velocity, level, age), team ball, goal directions and the goal model, game state and clocks, own penalty, teammates (by number) and the 5 nearest obstacles (:mod:`cognition.behaviors.observation`) |
+| Rewards | weighted terms ``goal``, ``ball_progress``, ``ball_approach``, ``penalty`` (:mod:`envs.core`); per-term values in ``infos[agent]["reward_terms"]`` |
+| Episode end | termination when the match is over (two halves of ``half_seconds``); truncation after ``max_cycles`` decisions |
+
+## Arguments
+
+| argument | default | meaning |
+|---|---|---|
+| ``players_per_team`` | 5 | robots per team, 1..7 |
+| ``control`` | ``home`` | agents: ``home``, ``away`` or ``both`` teams |
+| ``observation`` | ``percepts`` | ``percepts`` or ``truth``; ``images`` is reserved for the vision milestone (refused with an explanation) |
+| ``localization`` | ``maturing`` | localization variant in ``percepts`` mode (``cognition.localization.VARIANTS``) |
+| ``obstacle_model`` | ``sectors`` | world-model obstacle variant (``sectors`` or ``grid``) |
+| ``action_type`` | ``continuous`` | ``continuous`` or ``discrete`` |
+| ``decision_hz`` | 10 | decisions per simulated second |
+| ``cognition_hz`` | None | cognition frames per second, a whole multiple of ``decision_hz``; None: 30 with ``percepts`` (the filters' rate), ``decision_hz`` with ``truth`` |
+| ``half_seconds`` | 300 | length of a half (s) |
+| ``max_cycles`` | 3000 | decisions before truncation |
+| ``start`` | ``kickoff`` | ``kickoff`` (INITIAL, READY, SET as in a game) or ``playing`` (robots at kickoff positions, play starts at once) |
+| ``opponents`` | ``scripted`` | robots of uncontrolled teams: ``scripted`` or ``random`` (random walkers) |
+| ``reward_weights`` | goal 1, ball_progress 0.05, ball_approach 0, penalty 0.2 | mapping term -> weight; unknown terms are an error |
+| ``render_mode`` | None | ``rgb_array`` (``render()`` returns the top-down view) or ``human`` (every step writes a frame to ``render_path``; no display needed) |
+| ``render_path`` | ``soccer_v0.mp4`` | video file of ``human`` mode (``.mp4`` or ``.gif``) |
+| ``percepts`` | ``default`` | percept noise preset (``ideal``, ``default``, ``harsh``) |
+
+## Version history
+
+* v0: first release.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+import gymnasium
+import numpy as np
+from numpy.typing import NDArray
+from pettingzoo import ParallelEnv
+from pettingzoo.utils import parallel_to_aec, wrappers
+
+from cognition.behaviors.actions import CONTINUOUS_SIZE, MACROS
+from cognition.behaviors.observation import observation_size
+from envs.core import EnvConfig, SoccerCore
+
+__all__ = ["SoccerParallelEnv", "env", "parallel_env", "raw_env"]
+
+
+def action_space_of(action_type: str) -> gymnasium.spaces.Space:
+    """The action space of every agent for this action type."""
+    if action_type == "discrete":
+        return gymnasium.spaces.Discrete(len(MACROS))
+    return gymnasium.spaces.Box(-1.0, 1.0, (CONTINUOUS_SIZE,), dtype=np.float32)
+
+
+def observation_space_of(players_per_team: int) -> gymnasium.spaces.Box:
+    """The observation space of every agent for this team size."""
+    return gymnasium.spaces.Box(-1.0, 1.0, (observation_size(players_per_team),), dtype=np.float32)
+
+
+class SoccerParallelEnv(ParallelEnv):
+    """The soccer environment, parallel API (module docstring)."""
+
+    metadata: ClassVar[dict[str, Any]] = {
+        "name": "soccer_v0",
+        "render_modes": ["rgb_array", "human"],
+        "is_parallelizable": True,
+        "render_fps": 10,
+    }
+
+    def __init__(self, **kwargs: Any):
+        self.config = EnvConfig(**kwargs)
+        self.render_mode = self.config.render_mode
+        self.core = SoccerCore(self.config)
+        self.possible_agents = list(self.core.possible_agents)
+        self.agents: list[str] = []
+        obs_space = observation_space_of(self.config.players_per_team)
+        act_space = action_space_of(self.config.action_type)
+        self._observation_spaces = {a: obs_space for a in self.possible_agents}
+        self._action_spaces = {a: act_space for a in self.possible_agents}
+        self._seeds: np.random.Generator | None = None
+
+    def observation_space(self, agent: str) -> gymnasium.spaces.Space:
+        """Every agent shares one space (parameter sharing works)."""
+        return self._observation_spaces[agent]
+
+    def action_space(self, agent: str) -> gymnasium.spaces.Space:
+        """Every agent shares one space."""
+        return self._action_spaces[agent]
+
+    def reset(
+        self, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, NDArray[np.float32]], dict[str, dict[str, Any]]]:
+        """A new match. ``seed`` fixes this episode and the ones after it that get no seed."""
+        if seed is not None or self._seeds is None:
+            self._seeds = np.random.default_rng(seed)
+        episode_seed = int(self._seeds.integers(0, 2**31 - 1))
+        obs = self.core.reset(episode_seed)
+        self.agents = list(self.possible_agents)
+        return obs, {a: {"episode_seed": episode_seed} for a in self.agents}
+
+    def step(
+        self, actions: dict[str, Any]
+    ) -> tuple[
+        dict[str, NDArray[np.float32]], dict[str, float], dict[str, bool], dict[str, bool], dict[str, dict[str, Any]]
+    ]:
+        """One decision for every live agent."""
+        if not self.agents:
+            raise RuntimeError("step() called with no live agents: call reset() first")
+        obs, rewards, terminated, truncated, infos = self.core.step(actions, self.agents)
+        terms = dict.fromkeys(self.agents, terminated)
+        truncs = dict.fromkeys(self.agents, truncated and not terminated)
+        if terminated or truncated:
+            self.agents = []
+        return obs, rewards, terms, truncs, infos
+
+    def render(self) -> NDArray[np.uint8] | None:
+        """``rgb_array``: the top-down view; ``human``: frames are written by ``step`` (returns None)."""
+        if self.render_mode is None:
+            gymnasium.logger.warn("render() called without a render_mode; pass render_mode='rgb_array' or 'human'")
+            return None
+        if self.render_mode == "human":
+            return None
+        return self.core.render()
+
+    def close(self) -> None:
+        """Finish the ``human`` video."""
+        self.core.close()
+
+    def state(self) -> NDArray[np.float32]:
+        """All agents' observations side by side (a global state for centralised critics)."""
+        return np.concatenate([self.core.policies[a].observation() for a in self.possible_agents])
+
+
+def parallel_env(**kwargs: Any) -> SoccerParallelEnv:
+    """The parallel environment (arguments in the module docstring)."""
+    return SoccerParallelEnv(**kwargs)
+
+
+def raw_env(**kwargs: Any) -> Any:
+    """The AEC environment without wrappers."""
+    return parallel_to_aec(parallel_env(**kwargs))
+
+
+def env(**kwargs: Any) -> Any:
+    """The AEC environment (agents act in turn; one decision step after the last agent)."""
+    e = raw_env(**kwargs)
+    e = wrappers.OrderEnforcingWrapper(e)
+    return e
