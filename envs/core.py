@@ -48,6 +48,7 @@ from cognition.field import make_colour_scheme
 from cognition.gamestate import GameStateId, SetPlay
 from cognition.localization import VARIANTS
 from cognition.positions import kickoff_position
+from cognition.worldmodel.beliefs import CognitionBeliefs
 from teamsim.match import Match, MatchConfig
 from teamsim.placement import team_to_world
 from teamsim.referee import RefereeParams
@@ -254,12 +255,23 @@ class SoccerCore:
                 pose = kickoff_position(m.field, r.number, r.team == m.referee.kicking_team)
                 r.teleport(*team_to_world(m.referee.sign(r.team), *pose))
             m.referee.play_now(0.0)
+        if self.drill is not None or c.start == "playing":
+            self._tell_placements(m)
         self.cycles = 0
         m.advance_frame()
         self._previous = self._measure()
         if c.render_mode == "human":
             self._write_frame()
         return self.observations()
+
+    @staticmethod
+    def _tell_placements(m: Match) -> None:
+        """Robots placed for an episode start know where they were put (as after a manual placement):
+        every localizer of the cognition stack starts around its robot's placed pose."""
+        for robot, brain in zip(m.world.robots, m.brains, strict=True):
+            provider = getattr(brain, "provider", None)
+            if isinstance(provider, CognitionBeliefs):
+                provider.localizer.on_placement(np.array([m.referee.team_pose(robot)], dtype=np.float64))
 
     def _scripted(self, team: int, number: int, truth: bool) -> Brain:
         c = self.config

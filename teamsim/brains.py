@@ -7,6 +7,8 @@ BrainFactory               ``(team index, player number) -> Brain``
 oracle_brains              the default factory: scripted oracle players (ground truth)
 localizing_brains          a factory of :class:`~cognition.behaviors.localizing_players.LocalizingBrain`
                            that run one localization variant and act on their own estimate
+scripted_brains            scripted team play on beliefs (truth or the cognition stack)
+random_brains              random walkers, the baseline opponents
 default_brains             the factory a match uses when the caller gives none
 LocalizationErrors         collects, per robot and cognition frame, the error of a brain's pose
                            estimate against the truth (evaluation only; brains never see it)
@@ -69,6 +71,35 @@ def localizing_brains(
     return factory
 
 
+def scripted_brains(
+    localization: str | None,
+    params: LocalizationParams | None = None,
+    return_rule: str | None = None,
+    obstacle_model: str = "sectors",
+) -> BrainFactory:
+    """A factory of scripted team players (:class:`~cognition.behaviors.team_play.ScriptedBrain`):
+    on truth beliefs without ``localization``, else on the cognition stack with that variant."""
+    from cognition.behaviors.team_play import ScriptedBrain
+
+    if localization is None:
+        return lambda team, number: ScriptedBrain(beliefs="truth")
+    if localization not in VARIANTS:
+        raise ValueError(f"unknown localization variant {localization!r}; valid: {list(VARIANTS)}")
+    p = params or LocalizationParams()
+    if return_rule is not None:
+        p = replace(p, return_rule=return_rule)
+    return lambda team, number: ScriptedBrain(
+        beliefs="cognition", variant=localization, localization_params=p, obstacle_model=obstacle_model
+    )
+
+
+def random_brains(team: int, number: int) -> Brain:
+    """Random walkers (:class:`~cognition.behaviors.random_walk.RandomWalkBrain`)."""
+    from cognition.behaviors.random_walk import RandomWalkBrain
+
+    return RandomWalkBrain()
+
+
 def default_brains(
     players: str,
     localization: str | None,
@@ -76,7 +107,14 @@ def default_brains(
     return_rule: str,
     obstacle_model: str = "sectors",
 ) -> BrainFactory:
-    """Oracle players without localization, localizing players (with the named obstacle model) with it."""
+    """The brains named by ``players``: ``scripted`` (:func:`scripted_brains`), ``oracle`` (oracle
+    players without localization, localizing oracle players with it) or ``random``."""
+    if players == "scripted":
+        return scripted_brains(localization, params, return_rule, obstacle_model)
+    if players == "random":
+        return random_brains
+    if players != "oracle":
+        raise ValueError(f"unknown players {players!r}; valid: ['scripted', 'oracle', 'random']")
     if localization is None:
         return oracle_brains
     return localizing_brains(localization, params, return_rule, obstacle_model)

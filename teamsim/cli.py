@@ -9,6 +9,10 @@ match          run a full headless match and print its summary; optionally write
 camera         run a match to given times and write robots' camera images as PNG,
                raw and with their ground-truth annotations
 gallery        render the README's gallery of camera images (docs/gallery)
+train          train a policy on teamsim/Striker-v0, teamsim/Keeper-v0 or soccer_v0
+               with Stable-Baselines3 (:mod:`envs.training`; needs the train extra)
+evaluate       play episodes with a trained model or random actions; report goals,
+               outcomes and returns
 =============  ==================================================================
 
 ``teamsim match --out DIR`` writes ``config.json`` first, appends every event to
@@ -29,9 +33,10 @@ from typing import Any, TextIO
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
 from cognition.localization import VARIANTS
 from cognition.worldmodel import OBSTACLE_MODELS
+from teamsim.brains import default_brains
 from teamsim.events import EventLog, LogEvent
 from teamsim.image_params import ImageParams
-from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, Match, MatchConfig
+from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, PLAYERS, Match, MatchConfig
 from teamsim.percept_params import PerceptParams
 
 
@@ -59,17 +64,26 @@ def _match_parser(sub: Any) -> None:
     p = sub.add_parser(
         "match",
         help="run a full headless match and print its summary",
-        description="Run a full match (two halves) with scripted players and print a summary. The players "
-        "read the ball and the other robots from ground truth; with --localization they act on their own "
-        "pose estimate, and the summary reports its error.",
+        description="Run a full match (two halves) and print a summary. By default both teams play the "
+        "scripted team play on their own cognition stack (maturing localization, world model, team messages); "
+        "the summary reports the localization error.",
     )
     _common_args(p)
     p.add_argument(
         "--localization",
-        choices=list(VARIANTS),
+        choices=[*VARIANTS, "none"],
         default=None,
-        help="localization variant the players run and act on (default: none, they read their true pose)",
+        help="localization variant the players run and act on (default: maturing with percepts; 'none': "
+        "the players read the truth)",
     )
+    p.add_argument(
+        "--players",
+        choices=list(PLAYERS),
+        default=None,
+        help="brains of the home team (and of the away team without --opponents): scripted team play "
+        "(default), the foundation's oracle players, or random walkers",
+    )
+    p.add_argument("--opponents", choices=list(PLAYERS), default=None, help="brains of the away team")
     p.add_argument(
         "--obstacles",
         choices=list(OBSTACLE_MODELS),
@@ -146,6 +160,8 @@ def build_parser() -> argparse.ArgumentParser:
     _match_parser(sub)
     _camera_parser(sub)
     _gallery_parser(sub)
+    _train_parser(sub)
+    _evaluate_parser(sub)
     return parser
 
 
@@ -174,7 +190,11 @@ def config_from_args(args: argparse.Namespace) -> MatchConfig:
     if getattr(args, "observation", None) is not None:
         data["observation"] = args.observation
     if getattr(args, "localization", None) is not None:
-        data["localization"] = args.localization
+        data["localization"] = None if args.localization == "none" else args.localization
+    elif args.command == "match" and "localization" not in data and data.get("observation", "percepts") == "percepts":
+        data["localization"] = "maturing"  # the command's default: the full cognition stack
+    if getattr(args, "players", None) is not None:
+        data["players"] = args.players
     if getattr(args, "obstacles", None) is not None:
         data["obstacle_model"] = args.obstacles
     if args.images is not None:
@@ -219,7 +239,13 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
             events_file.write(json.dumps(ev.to_json()) + "\n")
             events_file.flush()
 
-    match = Match(config, log=EventLog(sink=sink))
+    brains = None
+    if args.opponents is not None:
+        c = config
+        home = default_brains(c.players, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
+        away = default_brains(args.opponents, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
+        brains = lambda team, number: home(team, number) if team == 0 else away(team, number)  # noqa: E731
+    match = Match(config, brains=brains, log=EventLog(sink=sink))
     panel = None
     shown: tuple[int, int] | None = None
     if args.video is not None and args.video_robot != "none":
@@ -290,6 +316,130 @@ def run_gallery(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
+# -- train / evaluate: reinforcement learning with Stable-Baselines3 ----------------------------
+# The CLI is the application shell: these handlers import envs lazily; teamsim's modules never import envs.
+
+_RL_ENV_HELP = "teamsim/Striker-v0, teamsim/Keeper-v0 or soccer_v0"
+
+
+def _rl_env_args(p: Any) -> None:
+    """Options of the environment shared by ``train`` and ``evaluate``."""
+    p.add_argument("--env", required=True, help=f"environment: {_RL_ENV_HELP}")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--observation", choices=["truth", "percepts"], default=None, help="observation mode")
+    p.add_argument("--action-type", choices=["continuous", "discrete"], default=None, help="action type")
+    p.add_argument(
+        "--env-kwargs",
+        default=None,
+        metavar="JSON",
+        help='more environment arguments as a JSON object, e.g. \'{"reward_weights": {"goal": 20}}\'',
+    )
+
+
+def _train_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "train",
+        help="train a policy with Stable-Baselines3 (needs the train extra)",
+        description="Train a policy on a teamsim environment. Writes OUT/config.json first, checkpoints to "
+        "OUT/checkpoints, TensorBoard logs to OUT/tb and the model to OUT/model.zip. An interrupted run keeps its "
+        "checkpoints; --resume continues from the latest.",
+    )
+    _rl_env_args(p)
+    p.add_argument("--algo", default="ppo", help="ppo (default), a2c or sac (continuous actions only)")
+    p.add_argument("--timesteps", type=int, required=True, help="environment steps (decisions) in total")
+    p.add_argument("--out", type=Path, required=True, help="output directory")
+    p.add_argument("--n-envs", type=int, default=None, help="environment copies (default 4; soccer_v0: 1 match)")
+    p.add_argument("--checkpoint-every", type=int, default=10_000, help="steps between checkpoints (default 10000)")
+    p.add_argument("--hyperparams", default=None, metavar="JSON", help="algorithm keyword arguments as JSON")
+    p.add_argument("--resume", action="store_true", help="continue from the latest checkpoint in --out")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def _evaluate_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "evaluate",
+        help="play episodes with a trained model (or random actions) and report goals and outcomes",
+        description="Evaluate a model saved by 'teamsim train' (deterministic actions) or 'random' actions. The "
+        "environment arguments default to those the model was trained with. --out appends one JSON line per "
+        "episode and, run again, skips the episodes the file holds.",
+    )
+    p.add_argument("--model", required=True, help="DIR/model.zip of 'teamsim train', or 'random'")
+    _rl_env_args(p)
+    p.add_argument("--episodes", type=int, default=50, help="episodes (matches for soccer_v0; default 50)")
+    p.add_argument("--out", type=Path, default=None, help="JSONL file of the episodes (resumable)")
+
+
+def _json_object(text: str | None, option: str) -> dict[str, Any]:
+    if text is None:
+        return {}
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{option} is not valid JSON: {exc}") from exc
+    if not isinstance(value, dict):
+        raise ValueError(f"{option} must be a JSON object, got {text!r}")
+    return value
+
+
+def _rl_env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
+    kwargs = _json_object(args.env_kwargs, "--env-kwargs")
+    if args.observation is not None:
+        kwargs["observation"] = args.observation
+    if args.action_type is not None:
+        kwargs["action_type"] = args.action_type
+    return kwargs
+
+
+def run_train(args: argparse.Namespace, out: TextIO) -> int:
+    """Run ``teamsim train`` with parsed arguments."""
+    import time
+
+    try:
+        from envs.training import train
+    except ImportError as exc:
+        raise ValueError(f"{exc}; install the training extra: pip install -e '.[train]'") from exc
+    start = time.perf_counter()
+    try:
+        path = train(
+            args.env,
+            algo=args.algo,
+            timesteps=args.timesteps,
+            out_dir=args.out,
+            seed=args.seed,
+            env_kwargs=_rl_env_kwargs(args),
+            n_envs=args.n_envs,
+            checkpoint_every=args.checkpoint_every,
+            progress_bar=not args.no_progress,
+            hyperparams=_json_object(args.hyperparams, "--hyperparams"),
+            resume=args.resume,
+        )
+    except KeyboardInterrupt:
+        print(f"interrupted: checkpoints kept in {args.out / 'checkpoints'}; continue with --resume", file=out)
+        return 130
+    seconds = time.perf_counter() - start
+    print(
+        f"trained {args.algo} on {args.env}: {args.timesteps} steps in {seconds:.1f} s "
+        f"({args.timesteps / seconds:.0f} steps/s)\nmodel written to {path}",
+        file=out,
+    )
+    return 0
+
+
+def run_evaluate(args: argparse.Namespace, out: TextIO) -> int:
+    """Run ``teamsim evaluate`` with parsed arguments."""
+    try:
+        from envs.training import evaluate
+    except ImportError as exc:
+        raise ValueError(f"{exc}; install the training extra: pip install -e '.[train]'") from exc
+    report = evaluate(
+        args.model, args.env, episodes=args.episodes, seed=args.seed, env_kwargs=_rl_env_kwargs(args), out=args.out
+    )
+    print(report.format(), file=out)
+    if args.out is not None:
+        print(f"episodes written to {args.out}", file=out)
+    return 0
+
+
 def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     """Entry point of the ``teamsim`` console script; returns the exit code."""
     parser = build_parser()
@@ -302,6 +452,10 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
             return run_camera(args, stream)
         if args.command == "gallery":
             return run_gallery(args, stream)
+        if args.command == "train":
+            return run_train(args, stream)
+        if args.command == "evaluate":
+            return run_evaluate(args, stream)
     except (ValueError, TypeError, OSError) as exc:
         print(f"teamsim {args.command}: error: {exc}", file=sys.stderr)
         return 2

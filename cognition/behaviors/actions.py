@@ -35,13 +35,13 @@ index  name            skill
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
+from cognition.behaviors.message_budget import message_due
 from cognition.behaviors.observation import ObservationBuilder
 from cognition.brain import BrainContext
 from cognition.oracle import OracleInput
@@ -90,15 +90,11 @@ def check_action(action: object, action_type: str) -> NDArray[np.float64] | int:
     """
     if action_type == "discrete":
         a = np.asarray(action)
-        if a.shape not in ((), (1,)) or not (np.issubdtype(a.dtype, np.integer) or a.dtype == bool):
-            if (
-                a.shape in ((), (1,))
-                and np.issubdtype(a.dtype, np.floating)
-                and float(a.reshape(())) == int(a.reshape(()))
-            ):
-                a = a.astype(np.int64)
-            else:
-                raise ActionError(f"a discrete action must be one integer in 0..{len(MACROS) - 1}, got {action!r}")
+        single = a.shape in ((), (1,))
+        if single and np.issubdtype(a.dtype, np.floating) and np.isfinite(a).all() and float(a.reshape(())) % 1 == 0:
+            a = a.astype(np.int64)  # a whole float such as 2.0 is accepted
+        if not single or not (np.issubdtype(a.dtype, np.integer) or a.dtype == bool):
+            raise ActionError(f"a discrete action must be one integer in 0..{len(MACROS) - 1}, got {action!r}")
         k = int(a.reshape(()))
         if not 0 <= k < len(MACROS):
             raise ActionError(f"discrete action {k} is out of range 0..{len(MACROS) - 1} ({', '.join(MACROS)})")
@@ -176,7 +172,8 @@ class PolicyBrain:
         else:
             self.provider = CognitionBeliefs(context, self.variant, obstacle_model=self.obstacle_model)
         if self.action_type == "discrete":
-            from cognition.behaviors.skills import HeadControl, Skills
+            from cognition.behaviors.head_control import HeadControl
+            from cognition.behaviors.skills import Skills
 
             self.skills = Skills(context)
             self.head = HeadControl(context)
@@ -261,14 +258,12 @@ class PolicyBrain:
         return replace(m, head=head)
 
     def _message(self, frame: SensorFrame) -> bytes | None:
-        """Team messages in cognition mode, once per second while playing (teammates' team ball)."""
-        if not isinstance(self.provider, CognitionBeliefs) or frame.game.state != 3:
+        """Team messages in cognition mode (teammates' team ball), spreading the team's budget."""
+        if not isinstance(self.provider, CognitionBeliefs):
             return None
         assert self.context is not None
-        budget = frame.game.team(self.context.team_number).message_budget
-        remaining = max(1.0, float(frame.game.secs_remaining) * (2.0 if frame.game.first_half else 1.0))
-        interval = max(1.0, remaining * self.context.players_per_team / max(1, budget))
-        if budget <= 0 or frame.time - self._last_message < interval or math.isnan(frame.time):
+        c = self.context
+        if not message_due(frame.game, c.team_number, c.players_per_team, frame.time, self._last_message, 1.0):
             return None
         self._last_message = frame.time
         return self.provider.message()

@@ -30,6 +30,7 @@ import math
 import struct
 from dataclasses import dataclass
 
+from cognition.behaviors.message_budget import message_due
 from cognition.brain import BrainContext
 from cognition.gamestate import GameStateId, SetPlay
 from cognition.geometry import wrap_angle
@@ -307,19 +308,14 @@ class OracleBrain:
         return self._payload(frame, oracle)
 
     def _send_now(self, frame: SensorFrame) -> bool:
-        """Whether to send now: while PLAYING, spreading the team's remaining budget over the
-        remaining game time (every player takes its share), never faster than the minimum
-        interval."""
+        """Whether to send now (:func:`~cognition.behaviors.message_budget.message_due`: the team's
+        remaining budget spread over the remaining game time, never faster than the minimum interval)."""
         assert self.context is not None
-        game = frame.game
-        if game.state != GameStateId.PLAYING:
-            return False
-        budget = game.team(self.context.team_number).message_budget
-        if budget <= 0:
-            return False
-        remaining = max(1.0, float(game.secs_remaining) * (2.0 if game.first_half else 1.0))
-        interval = max(self.params.min_message_interval, remaining * self.context.players_per_team / budget)
-        return frame.time - self._last_message >= interval
+        c = self.context
+        return message_due(
+            frame.game, c.team_number, c.players_per_team, frame.time, self._last_message,
+            self.params.min_message_interval,
+        )  # fmt: skip
 
     def _payload(self, frame: SensorFrame, oracle: OracleInput) -> bytes:
         """The status message (:data:`STATUS_FORMAT`)."""

@@ -1,0 +1,208 @@
+"""Head control: where the camera looks, as an explicit state machine on :class:`Beliefs`.
+
+The head serves two masters: the ball (behaviors need it in view) and localization (it needs
+landmarks, which the ball rarely lies in front of). The CMU paper (Sec. IV.A) adds a third:
+when the world model holds a *suspicious* ball hypothesis it asks the behaviors to look
+there (``Beliefs.look_at``, active gaze), so that the hypothesis becomes valid or dies fast.
+
+=======  ==========================================================================================
+state    behaviour (checked in this order each frame)
+=======  ==========================================================================================
+scan     the pose estimate is ``lost`` or its position std exceeds ``uncertain_std`` (until it is
+         below ``certain_std`` again), or a routine scan is due: ``scan_duration`` s every
+         ``scan_period`` s, player n shifted by n * ``player_offset`` s so that the team does not
+         look away from the ball all at once. A triangle sweep of the yaw between
+         ``-scan_yaw`` and ``+scan_yaw`` at ``scan_pitch``, upper camera, starting on the side the
+         head points to (as :mod:`cognition.behaviors.localizing_players` does). The lost scan
+         comes first; the routine scan yields to ``look_at``
+look_at  the world model asks to check a suspicious ball (``Beliefs.look_at``, robot frame)
+search   nobody knows where the ball is: the same sweep as ``scan``
+ball     look at the ball (``Beliefs.best_ball()`` through the estimated pose)
+=======  ==========================================================================================
+
+With truth beliefs (``Beliefs.source == "truth"``) the pose is exact and the ball always
+known: the state is always ``ball``.
+
+Looking at a ground point (robot frame, m): yaw is its bearing (limited to ``max_yaw``);
+the camera is the lower one for points nearer than ``lower_below`` m (back to the upper one
+beyond ``upper_above`` m, hysteresis), and the pitch puts the point at the image centre
+(camera heights and tilts of the NAO V6, :mod:`cognition.camera`), limited to
+[``pitch_min``, ``pitch_max``].
+
+=================  =======  ========================================================
+HeadParams         default  meaning
+=================  =======  ========================================================
+scan_period        5.0      s between the starts of two routine scans
+scan_duration      1.0      s for one sweep from one side to the other
+scan_yaw           1.4      sweep amplitude (rad, both sides)
+scan_pitch         0.3      head pitch while scanning (rad, positive looks down)
+scan_speed         4.0      head speed requested while scanning (rad/s)
+player_offset      0.7      routine scan of player n starts n * offset s later
+uncertain_std      0.6      position std (m) above which the head scans ...
+certain_std        0.35     ... until it is below this again (m)
+track_speed        4.0      head speed requested while tracking (rad/s)
+max_yaw            1.5      largest tracking yaw (rad)
+lower_below        0.7      ball distance (m) below which the lower camera is read
+upper_above        0.9      ball distance (m) above which the upper camera is read
+pitch_min          -0.3     pitch limits while tracking (rad)
+pitch_max          0.5
+=================  =======  ========================================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+from cognition.brain import BrainContext
+from cognition.params import check_non_negative, check_positive
+from cognition.representations import HeadRequest
+from cognition.worldmodel.beliefs import Beliefs
+
+HeadStateName = Literal["ball", "look_at", "scan", "search"]
+HEAD_STATES: tuple[str, ...] = ("ball", "look_at", "scan", "search")
+
+_UPPER_HEIGHT, _UPPER_TILT = 0.504, math.radians(1.2)
+_LOWER_HEIGHT, _LOWER_TILT = 0.458, math.radians(39.7)
+
+
+@dataclass(frozen=True)
+class HeadParams:
+    """Tuning of the head control (table in the module docstring)."""
+
+    scan_period: float = 5.0
+    scan_duration: float = 1.0
+    scan_yaw: float = 1.4
+    scan_pitch: float = 0.3
+    scan_speed: float = 4.0
+    player_offset: float = 0.7
+    uncertain_std: float = 0.6
+    certain_std: float = 0.35
+    track_speed: float = 4.0
+    max_yaw: float = 1.5
+    lower_below: float = 0.7
+    upper_above: float = 0.9
+    pitch_min: float = -0.3
+    pitch_max: float = 0.5
+
+    def __post_init__(self) -> None:
+        o = "HeadParams"
+        check_positive(
+            o, scan_period=self.scan_period, scan_duration=self.scan_duration, scan_speed=self.scan_speed,
+            uncertain_std=self.uncertain_std, certain_std=self.certain_std, track_speed=self.track_speed,
+            max_yaw=self.max_yaw, lower_below=self.lower_below, upper_above=self.upper_above,
+        )  # fmt: skip
+        check_non_negative(o, scan_yaw=self.scan_yaw, player_offset=self.player_offset)
+        for name in ("scan_pitch", "pitch_min", "pitch_max"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{o}.{name} must be a finite number, got {getattr(self, name)!r}")
+        if self.scan_duration > self.scan_period:
+            raise ValueError(f"{o}.scan_duration ({self.scan_duration}) exceeds scan_period ({self.scan_period})")
+        if self.certain_std > self.uncertain_std:
+            raise ValueError(f"{o}.certain_std ({self.certain_std}) exceeds uncertain_std ({self.uncertain_std})")
+        if self.lower_below > self.upper_above:
+            raise ValueError(f"{o}.lower_below ({self.lower_below}) must not exceed upper_above ({self.upper_above})")
+        if self.pitch_min >= self.pitch_max:
+            raise ValueError(f"{o}.pitch_min ({self.pitch_min}) must be below pitch_max ({self.pitch_max})")
+
+
+class HeadControl:
+    """The head's state machine (module docstring); ``state`` names the current state."""
+
+    def __init__(self, context: BrainContext, params: HeadParams | None = None) -> None:
+        self.context = context
+        self.params = params or HeadParams()
+        self.state: HeadStateName = "ball"
+        self.camera: Literal["upper", "lower"] = "upper"
+        """The camera read while tracking (switched with hysteresis on the distance)."""
+        self._uncertain = False
+        self._scan_start = 0.0
+        self._scan_side = 1.0
+        self._yaw = 0.0
+        """The latest requested yaw (rad): where the head points, roughly."""
+
+    def request(self, b: Beliefs) -> HeadRequest:
+        """Decide the state on these beliefs and return the head request (robot frame)."""
+        state = self._transition(b)
+        if state in ("scan", "search"):
+            if self.state not in ("scan", "search"):
+                self._start_sweep(b.time)
+            self.state = state
+            return self._sweep(b.time)
+        self.state = state
+        if state == "look_at":
+            assert b.look_at is not None
+            return self.look(*b.look_at)
+        ball = _ball_robot(b)
+        assert ball is not None
+        return self.look(*ball)
+
+    def scan(self, b: Beliefs) -> HeadRequest:
+        """Force a landmark scan now (a policy's ``scan`` macro-action)."""
+        if self.state not in ("scan", "search"):
+            self._start_sweep(b.time)
+        self.state = "scan"
+        return self._sweep(b.time)
+
+    def look(self, x: float, y: float) -> HeadRequest:
+        """Point the camera at the ground point (x, y) (robot frame, m)."""
+        p = self.params
+        yaw = max(-p.max_yaw, min(p.max_yaw, math.atan2(y, x)))
+        d = math.hypot(x, y)
+        if self.camera == "upper" and d < p.lower_below:
+            self.camera = "lower"
+        elif self.camera == "lower" and d > p.upper_above:
+            self.camera = "upper"
+        if self.camera == "lower":
+            pitch = math.atan2(_LOWER_HEIGHT, max(d, 0.05)) - _LOWER_TILT
+        else:
+            pitch = math.atan2(_UPPER_HEIGHT, max(d, 0.05)) - _UPPER_TILT
+        self._yaw = yaw
+        pitch = max(p.pitch_min, min(p.pitch_max, pitch))
+        return HeadRequest(yaw=yaw, pitch=pitch, speed=p.track_speed, camera=self.camera)
+
+    # -- transitions -------------------------------------------------------------------------
+    def _transition(self, b: Beliefs) -> HeadStateName:
+        if b.source == "truth":
+            return "ball"
+        p = self.params
+        std = b.pose.position_std
+        if b.pose.lost or std > p.uncertain_std:
+            self._uncertain = True
+        elif std < p.certain_std:
+            self._uncertain = False
+        if self._uncertain:
+            return "scan"
+        if b.look_at is not None:
+            return "look_at"
+        phase = (b.time - self.context.player_number * p.player_offset) % p.scan_period
+        if phase < p.scan_duration:
+            return "scan"
+        return "ball" if _ball_robot(b) is not None else "search"
+
+    # -- the sweep ---------------------------------------------------------------------------
+    def _start_sweep(self, now: float) -> None:
+        self._scan_start = now
+        self._scan_side = 1.0 if self._yaw >= 0.0 else -1.0
+
+    def _sweep(self, now: float) -> HeadRequest:
+        """Triangle sweep: from ``side * scan_yaw`` to the other side in ``scan_duration``, and back."""
+        p = self.params
+        u = max(0.0, now - self._scan_start) / p.scan_duration
+        leg = math.floor(u)
+        frac = u - leg
+        pos = frac if leg % 2 == 0 else 1.0 - frac
+        yaw = self._scan_side * p.scan_yaw * (1.0 - 2.0 * pos)
+        self._yaw = yaw
+        self.camera = "upper"
+        return HeadRequest(yaw=yaw, pitch=p.scan_pitch, speed=p.scan_speed)
+
+
+def _ball_robot(b: Beliefs) -> tuple[float, float] | None:
+    """The ball to look at (robot frame, m): the own ball while valid, else ``best_ball()`` through the pose."""
+    ball = b.ball
+    if ball.level == "valid" and math.isfinite(ball.x):
+        return (ball.x, ball.y)
+    best = b.best_ball()
+    return b.to_robot(*best) if best is not None else None

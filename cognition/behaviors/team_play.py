@@ -1,0 +1,183 @@
+"""Scripted team play on beliefs: roles from teammates' messages and one state machine per robot.
+
+:class:`ScriptedBrain` reads only its :class:`~cognition.worldmodel.beliefs.Beliefs` (the
+cognition stack on its own sensor frames, or the oracle providers in ``truth`` mode) and acts
+with the skills of :mod:`cognition.behaviors.skills`. Roles (:func:`assign_role`): player 1
+keeps goal; of the active field players, the one nearest to the ball strikes (teammates'
+positions come from their messages; the current striker gets a ``striker_bonus`` so that the
+role does not flicker); of the rest, the one nearest to the own goal defends, the others
+support. CMU IV.B describes the striker's kick (goal model when close, pose when far).
+
+=========  ===================================================================================
+state      behaviour
+=========  ===================================================================================
+stand      INITIAL, SET, FINISHED, penalised, fallen or carried: do nothing
+position   READY: walk to the kickoff position
+keeper     PLAYING, player 1: between ball and goal; clears a close ball
+striker    PLAYING, nearest to the ball: approach, align, kick toward the goal
+defender   PLAYING: between the ball and the own goal
+supporter  PLAYING: a spot behind and beside the ball
+wait       PLAYING during the opponent's kickoff or set play: keep away from the ball
+=========  ===================================================================================
+
+The head runs :class:`~cognition.behaviors.skills.HeadControl` (ball, active gaze, scans).
+With cognition beliefs the robot sends team messages (pose, ball, role), spreading the team's
+budget over the game (:func:`message_due`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from cognition.behaviors.head_control import HeadControl, HeadParams
+from cognition.behaviors.message_budget import message_due
+from cognition.behaviors.skills import SkillParams, Skills
+from cognition.brain import BrainContext
+from cognition.gamestate import GameStateId, SetPlay
+from cognition.localization import LocalizationParams
+from cognition.oracle import OracleInput
+from cognition.representations import BrainOutput, MotionRequest, RobotPose, SensorFrame
+from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, Teammate, TruthBeliefs
+from cognition.worldmodel.messages import Role
+
+STRIKER_BONUS = 0.3
+"""Metres the current striker's distance to the ball is shortened by when roles are compared."""
+
+
+def assign_role(b: Beliefs, current: Role = Role.NONE, own_goal_x: float = -4.5, bonus: float = STRIKER_BONUS) -> Role:
+    """This robot's role from its beliefs (module docstring); ``own_goal_x`` in m, team frame."""
+    if b.player_number == 1:
+        return Role.KEEPER
+    ball = b.best_ball()
+    if ball is None:
+        return Role.SUPPORTER
+    bx, by = ball
+
+    def ball_dist(x: float, y: float) -> float:
+        return math.hypot(bx - x, by - y)
+
+    mine = ball_dist(b.pose.x, b.pose.y) - (bonus if current == Role.STRIKER else 0.0)
+    mates = [m for m in b.teammates if m.active and m.number != 1]
+    for m in mates:
+        d = ball_dist(m.x, m.y) - (bonus if m.role == Role.STRIKER else 0.0)
+        if d < mine - 1e-9 or (abs(d - mine) <= 1e-9 and m.number < b.player_number):
+            return _back_role(b, mates, own_goal_x)
+    return Role.STRIKER
+
+
+def _back_role(b: Beliefs, mates: list[Teammate], own_goal_x: float) -> Role:
+    """Of the non-strikers, the one nearest the own goal defends, the others support."""
+    own = math.hypot(b.pose.x - own_goal_x, b.pose.y)
+    for m in mates:
+        if m.role == Role.STRIKER:
+            continue
+        d = math.hypot(m.x - own_goal_x, m.y)
+        if d < own - 1e-9 or (abs(d - own) <= 1e-9 and m.number < b.player_number):
+            return Role.SUPPORTER
+    return Role.DEFENDER
+
+
+class ScriptedBrain:
+    """The scripted player (module docstring); ``beliefs`` is ``cognition`` or ``truth``."""
+
+    def __init__(
+        self,
+        beliefs: str = "cognition",
+        variant: str = "maturing",
+        localization_params: LocalizationParams | None = None,
+        obstacle_model: str = "sectors",
+        skill_params: SkillParams | None = None,
+        head_params: HeadParams | None = None,
+        message_interval: float = 1.0,
+    ):
+        if beliefs not in ("cognition", "truth"):
+            raise ValueError(f"unknown beliefs {beliefs!r}; valid: ['cognition', 'truth']")
+        self.beliefs_mode = beliefs
+        self.variant = variant
+        self.localization_params = localization_params
+        self.obstacle_model = obstacle_model
+        self.skill_params = skill_params
+        self.head_params = head_params
+        self.message_interval = message_interval
+        self.uses_oracle = beliefs == "truth" or variant == "oracle"
+        self.context: BrainContext | None = None
+        self.provider: CognitionBeliefs | TruthBeliefs | None = None
+        self.beliefs: Beliefs | None = None
+        """The latest beliefs."""
+        self.pose: RobotPose | None = None
+        """The latest pose estimate (cognition beliefs only; the match records its error)."""
+        self.role = Role.NONE
+        self.state = "stand"
+
+    def reset(self, context: BrainContext) -> None:
+        """Build the belief provider, skills and head control for a new match."""
+        self.context = context
+        if self.beliefs_mode == "truth":
+            self.provider = TruthBeliefs(context)
+        else:
+            self.provider = CognitionBeliefs(context, self.variant, self.localization_params, self.obstacle_model)
+        self.skills = Skills(context, self.skill_params)
+        self.head = HeadControl(context, self.head_params)
+        self.beliefs = None
+        self.pose = None
+        self.role = Role.NONE
+        self.state = "stand"
+        self._last_message = -1e9
+
+    def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
+        """Update the beliefs, choose the state, act."""
+        if self.provider is None or self.context is None:
+            raise RuntimeError("ScriptedBrain.think called before reset()")
+        if isinstance(self.provider, TruthBeliefs):
+            b = self.provider.update(frame, oracle)
+        else:
+            me = oracle.self_pose if oracle is not None else None
+            b = self.provider.update(frame, (me.x, me.y, me.theta) if me is not None else None)
+            self.pose = b.pose
+        self.beliefs = b
+        self.state = self._transition(b)
+        motion = self._act(b)
+        motion = replace(motion, head=self.head.request(b))
+        message = None
+        if isinstance(self.provider, CognitionBeliefs) and message_due(
+            frame.game, self.context.team_number, self.context.players_per_team, frame.time,
+            self._last_message, self.message_interval,
+        ):  # fmt: skip
+            self._last_message = frame.time
+            message = self.provider.message(self.role)
+        return BrainOutput(motion=motion, message=message)
+
+    def _transition(self, b: Beliefs) -> str:
+        assert self.context is not None
+        g = b.game
+        if b.penalty or b.fallen or b.picked_up:
+            return "stand"
+        if g.state == GameStateId.READY:
+            return "position"
+        if g.state != GameStateId.PLAYING:
+            return "stand"
+        self.role = assign_role(b, self.role, -self.context.field.half_length)
+        if self.role == Role.KEEPER:
+            return "keeper"
+        ours = g.kicking_team == self.context.team_number
+        if not ours and (g.set_play != SetPlay.NONE or g.secondary_time > 0):
+            return "wait"
+        return {Role.STRIKER: "striker", Role.DEFENDER: "defender"}.get(self.role, "supporter")
+
+    def _act(self, b: Beliefs) -> MotionRequest:
+        assert self.context is not None
+        s, sk = self.state, self.skills
+        if s == "position":
+            return sk.go_to_kickoff(b, b.game.kicking_team == self.context.team_number)
+        if s == "keeper":
+            return sk.keeper(b)
+        if s == "striker":
+            return sk.kick_to_goal(b)
+        if s == "defender":
+            return sk.defend(b)
+        if s == "supporter":
+            return sk.support(b, self.context.player_number)
+        if s == "wait":
+            return sk.keep_away(b)
+        return sk.stand(b)

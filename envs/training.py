@@ -1,0 +1,607 @@
+"""Training and evaluating policies on the teamsim environments with Stable-Baselines3.
+
+```python
+from envs.training import evaluate, train
+
+model = train("teamsim/Striker-v0", timesteps=50_000, out_dir="out/ppo_striker",
+              env_kwargs={"action_type": "discrete"})
+print(evaluate(model, "teamsim/Striker-v0", episodes=50).format())
+print(evaluate("random", "teamsim/Striker-v0", episodes=50, env_kwargs={"action_type": "discrete"}).format())
+```
+
+The command line does the same: ``teamsim train ...`` and ``teamsim evaluate ...``
+(:mod:`teamsim.cli`). Training needs the ``train`` extra (``pip install -e '.[train]'``:
+torch pinned to the CPU build, stable-baselines3, supersuit, tensorboard, tqdm, rich).
+
+Environments (``env_id``):
+
+=====================  =====================================================================================
+id                     how it is trained
+=====================  =====================================================================================
+teamsim/Striker-v0     Gymnasium task; ``n_envs`` copies in a ``DummyVecEnv``, each wrapped in ``Monitor``
+teamsim/Keeper-v0      Gymnasium task; as above
+soccer_v0              PettingZoo parallel env; parameter sharing: SuperSuit turns the N agents of one match
+                       into N vector-env slots (``pettingzoo_env_to_vec_env_v1``), ``n_envs`` matches are
+                       concatenated (``concat_vec_envs_v1``) and wrapped in ``VecMonitor``; one policy plays
+                       every agent
+=====================  =====================================================================================
+
+Options of :func:`train`:
+
+====================  ==========================================================================================
+option                meaning
+====================  ==========================================================================================
+``algo``              ``ppo`` (default), ``a2c`` or ``sac`` (continuous actions only)
+``timesteps``         environment steps (decisions) in total, over all vector-env slots; > 0
+``out_dir``           ``config.json`` (written first), ``checkpoints/`` (``ALGO_<steps>_steps.zip``),
+                      ``monitor/`` (per-episode CSV of the Gymnasium tasks), ``tb/`` (TensorBoard, when
+                      tensorboard is installed) and ``model.zip`` at the end
+``seed``              seeds the policy, the environments (copy ``i`` gets ``seed + i``) and SB3
+``env_kwargs``        keyword arguments of the environment (:class:`envs.core.EnvConfig` fields)
+``n_envs``            environment copies (default 4 for the tasks, 1 match for ``soccer_v0``)
+``checkpoint_every``  environment steps between checkpoints (default 10,000)
+``progress_bar``      SB3's progress bar (needs tqdm and rich)
+``hyperparams``       keyword arguments of the SB3 algorithm over :data:`DEFAULT_HYPERPARAMS`
+``resume``            continue from the latest checkpoint in ``out_dir/checkpoints`` (the environments
+                      start new episodes, so a resumed run is not bit-identical to an uninterrupted one)
+``torch_threads``     torch CPU threads (default 1: the small MLP gains nothing from more threads,
+                      which only compete with the simulator for the cores)
+====================  ==========================================================================================
+
+Interrupting :func:`train` (Ctrl-C) saves a checkpoint of the model so far before the
+``KeyboardInterrupt`` propagates. On CPU a run is deterministic for a given seed.
+
+:func:`evaluate` plays ``episodes`` episodes with the deterministic policy (or uniform random
+actions for ``model="random"``) and returns an :class:`EvaluationReport`: goals for and
+against, outcome counts and returns. Episode ``i`` is reset with a seed derived from
+``(seed, i)``, so a trained policy and the random baseline meet the same situations. With
+``out`` it appends one JSON line per episode as it finishes and, run again, skips the
+episodes the file already holds. The environment keyword arguments default to those the
+model was trained with (its ``config.json``); ``env_kwargs`` override them. For
+``soccer_v0`` an episode is a match: the shared policy plays every agent of the controlled
+team(s), goals are counted from the first agent's team's view and the outcome is ``won``,
+``lost`` or ``draw`` (:func:`match_outcome`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import time
+from collections import Counter
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import gymnasium
+import numpy as np
+
+ENV_IDS: tuple[str, ...] = ("teamsim/Striker-v0", "teamsim/Keeper-v0", "soccer_v0")
+"""Environments :func:`train` and :func:`evaluate` know."""
+ALGOS: tuple[str, ...] = ("ppo", "a2c", "sac")
+"""Stable-Baselines3 algorithms by name."""
+DEFAULT_HYPERPARAMS: dict[str, dict[str, Any]] = {
+    # batches of n_steps x slots decisions; a drill episode is 30-300 decisions
+    "ppo": {"n_steps": 256, "batch_size": 256, "n_epochs": 10, "gamma": 0.99, "learning_rate": 3e-4, "ent_coef": 0.01},
+    "a2c": {"n_steps": 16, "gamma": 0.99, "ent_coef": 0.01},
+    "sac": {"learning_starts": 1000, "buffer_size": 100_000, "batch_size": 256, "gamma": 0.99},
+}
+"""Hyperparameters of each algorithm unless ``hyperparams`` overrides them."""
+CHECKPOINT_EVERY = 10_000
+"""Default environment steps between checkpoints."""
+_CHECKPOINT = re.compile(r"^(?P<algo>[a-z0-9]+)_(?P<steps>\d+)_steps\.zip$")
+
+
+class TrainingDependencyError(ImportError):
+    """Stable-Baselines3 / torch / SuperSuit are missing (install the ``train`` extra)."""
+
+
+def _sb3() -> Any:
+    """Import Stable-Baselines3 or explain how to install it."""
+    try:
+        import stable_baselines3
+    except ImportError as exc:  # pragma: no cover - depends on the installation
+        raise TrainingDependencyError(
+            "training needs stable-baselines3 and torch: pip install -e '.[train]' "
+            "(torch is pinned to the CPU build there)"
+        ) from exc
+    return stable_baselines3
+
+
+def algo_class(algo: str) -> Any:
+    """The Stable-Baselines3 class of ``algo`` (``ppo``, ``a2c``, ``sac``)."""
+    if algo not in ALGOS:
+        raise ValueError(f"unknown algorithm {algo!r}; valid: {list(ALGOS)}")
+    sb3 = _sb3()
+    return {"ppo": sb3.PPO, "a2c": sb3.A2C, "sac": sb3.SAC}[algo]
+
+
+def _check_env_id(env_id: str) -> None:
+    if env_id not in ENV_IDS:
+        raise ValueError(f"unknown environment {env_id!r}; valid: {list(ENV_IDS)}")
+
+
+def make_env(env_id: str, env_kwargs: Mapping[str, Any] | None = None) -> Any:
+    """One environment: a Gymnasium env for the tasks, a PettingZoo parallel env for ``soccer_v0``."""
+    _check_env_id(env_id)
+    kwargs = dict(env_kwargs or {})
+    if env_id == "soccer_v0":
+        from envs import soccer_v0
+
+        return soccer_v0.parallel_env(**kwargs)
+    import envs  # noqa: F401  (registers the Gymnasium ids)
+
+    return gymnasium.make(env_id, **kwargs)
+
+
+def _spaces(env_id: str, env_kwargs: Mapping[str, Any] | None) -> tuple[gymnasium.Space, gymnasium.Space]:
+    """Observation and action space of one agent (builds the env, which checks the arguments)."""
+    env = make_env(env_id, env_kwargs)
+    try:
+        if env_id == "soccer_v0":
+            agent = env.possible_agents[0]
+            return env.observation_space(agent), env.action_space(agent)
+        return env.observation_space, env.action_space
+    finally:
+        env.close()
+
+
+def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: Mapping[str, Any] | None, monitor_dir: Path | None):
+    """The SB3 vector env of the module table, seeded with ``seed`` (copy ``i``: ``seed + i``)."""
+    _check_env_id(env_id)
+    _sb3()
+    from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecMonitor
+
+    if env_id != "soccer_v0":
+        import envs  # noqa: F401  (registers the Gymnasium ids)
+
+        return sb3_make_vec_env(
+            env_id,
+            n_envs=n_envs,
+            seed=seed,
+            env_kwargs=dict(env_kwargs or {}),
+            vec_env_cls=DummyVecEnv,
+            monitor_dir=None if monitor_dir is None else str(monitor_dir),
+        )
+    try:
+        import supersuit
+        from supersuit.vector.sb3_vector_wrapper import SB3VecEnvWrapper
+    except ImportError as exc:  # pragma: no cover - depends on the installation
+        raise TrainingDependencyError("soccer_v0 training needs supersuit: pip install -e '.[train]'") from exc
+
+    class SeededSB3VecEnv(SB3VecEnvWrapper):
+        """SuperSuit's SB3 wrapper, with SB3's ``seed()`` passed to the next ``reset``.
+
+        SuperSuit's wrapper forwards ``seed`` to a Gymnasium vector env that has no ``seed``
+        method and resets without a seed; here match copy ``i`` is reset with ``seed + i``.
+        """
+
+        _pending_seed: int | None = None
+
+        def seed(self, seed: int | None = None) -> list[int | None]:
+            self._pending_seed = seed
+            return [seed] * self.num_envs
+
+        def reset(self, seed: int | None = None, options: dict[str, Any] | None = None) -> Any:
+            seed = self._pending_seed if seed is None else seed
+            self._pending_seed = None
+            observations, self.reset_infos = self.venv.reset(seed=seed, options=options)
+            return observations
+
+    venv = supersuit.pettingzoo_env_to_vec_env_v1(make_env(env_id, env_kwargs))
+    venv = supersuit.concat_vec_envs_v1(venv, n_envs, num_cpus=0, base_class="gymnasium")
+    sb3_venv = SeededSB3VecEnv(venv)
+    sb3_venv.seed(seed)
+    return VecMonitor(sb3_venv)
+
+
+def latest_checkpoint(out_dir: str | Path) -> Path | None:
+    """The checkpoint with the most steps in ``out_dir/checkpoints`` (``None`` if there is none)."""
+    found = [
+        (int(m["steps"]), p) for p in Path(out_dir, "checkpoints").glob("*.zip") if (m := _CHECKPOINT.match(p.name))
+    ]
+    return max(found)[1] if found else None
+
+
+def _jsonable(value: Any) -> Any:
+    """``value`` as plain JSON types (dataclasses and mappings as dicts, tuples as lists)."""
+    if hasattr(value, "__dataclass_fields__"):
+        return {k: _jsonable(getattr(value, k)) for k in value.__dataclass_fields__}
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _progress_bar_available() -> bool:
+    try:
+        import rich  # noqa: F401
+        import tqdm  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def train(
+    env_id: str,
+    algo: str = "ppo",
+    timesteps: int = 100_000,
+    out_dir: str | Path = "out/train",
+    seed: int = 0,
+    env_kwargs: Mapping[str, Any] | None = None,
+    n_envs: int | None = None,
+    checkpoint_every: int = CHECKPOINT_EVERY,
+    progress_bar: bool = True,
+    hyperparams: Mapping[str, Any] | None = None,
+    resume: bool = False,
+    torch_threads: int | None = 1,
+    verbose: int = 0,
+) -> Path:
+    """Train a policy on ``env_id`` and save it; returns the path of ``out_dir/model.zip``.
+
+    Options in the module table. Raises ``ValueError`` for an unknown environment or
+    algorithm, non-positive ``timesteps``/``n_envs``/``checkpoint_every``, SAC with
+    discrete actions, or checkpoints in ``out_dir`` without ``resume``.
+    """
+    _check_env_id(env_id)
+    cls = algo_class(algo)
+    if not isinstance(timesteps, int) or isinstance(timesteps, bool) or timesteps <= 0:
+        raise ValueError(f"timesteps must be a positive integer, got {timesteps!r}")
+    if n_envs is None:
+        n_envs = 1 if env_id == "soccer_v0" else 4
+    if not isinstance(n_envs, int) or n_envs < 1:
+        raise ValueError(f"n_envs must be a positive integer, got {n_envs!r}")
+    if not isinstance(checkpoint_every, int) or checkpoint_every < 1:
+        raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
+    env_kwargs = dict(env_kwargs or {})
+    _, action_space = _spaces(env_id, env_kwargs)  # also checks the env arguments before anything is written
+    if algo == "sac" and not isinstance(action_space, gymnasium.spaces.Box):
+        raise ValueError("sac needs continuous actions; use action_type='continuous' or algo 'ppo'/'a2c'")
+    out = Path(out_dir)
+    checkpoint = latest_checkpoint(out)
+    if checkpoint is not None and not resume:
+        raise ValueError(f"{out} already holds checkpoints of a run; pass resume=True (--resume) or another out_dir")
+    params = {**DEFAULT_HYPERPARAMS[algo], **dict(hyperparams or {})}
+    config = {
+        "env_id": env_id,
+        "algo": algo,
+        "timesteps": timesteps,
+        "out_dir": str(out),
+        "seed": seed,
+        "env_kwargs": _jsonable(env_kwargs),
+        "n_envs": n_envs,
+        "checkpoint_every": checkpoint_every,
+        "progress_bar": progress_bar,
+        "hyperparams": _jsonable(params),
+        "resume": resume,
+        "torch_threads": torch_threads,
+    }
+    if resume and (out / "config.json").is_file():
+        before = json.loads((out / "config.json").read_text())
+        for key in ("env_id", "algo", "env_kwargs"):
+            if before.get(key) != config[key]:
+                raise ValueError(f"cannot resume: {key} was {before.get(key)!r} in {out}, now {config[key]!r}")
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "config.json").write_text(json.dumps(config, indent=2) + "\n")
+
+    import torch
+    from stable_baselines3.common.callbacks import CheckpointCallback
+    from stable_baselines3.common.utils import set_random_seed
+
+    if torch_threads is not None:
+        torch.set_num_threads(torch_threads)
+    set_random_seed(seed)
+    venv = make_vec_env(env_id, n_envs, seed, env_kwargs, None if env_id == "soccer_v0" else out / "monitor")
+    slots = venv.num_envs
+    tb = str(out / "tb") if _tensorboard_available() else None
+    if checkpoint is not None:
+        model = cls.load(checkpoint, env=venv, device="cpu", tensorboard_log=tb)
+        model.set_random_seed(seed + model.num_timesteps)
+    else:
+        model = cls("MlpPolicy", venv, seed=seed, device="cpu", tensorboard_log=tb, verbose=verbose, **params)
+    remaining = timesteps - model.num_timesteps
+    callback = CheckpointCallback(
+        save_freq=max(1, checkpoint_every // slots), save_path=str(out / "checkpoints"), name_prefix=algo
+    )
+    try:
+        if remaining > 0:
+            model.learn(
+                total_timesteps=remaining,
+                callback=callback,
+                progress_bar=progress_bar and _progress_bar_available(),
+                reset_num_timesteps=checkpoint is None,
+                tb_log_name=algo,
+            )
+    except KeyboardInterrupt:
+        model.save(out / "checkpoints" / f"{algo}_{model.num_timesteps}_steps.zip")
+        raise
+    finally:
+        venv.close()
+    model.save(out / "model.zip")
+    return out / "model.zip"
+
+
+def _tensorboard_available() -> bool:
+    try:
+        import tensorboard  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+# -- evaluation ------------------------------------------------------------------------------
+
+
+@dataclass
+class EvaluationReport:
+    """The result of :func:`evaluate`: one dict per episode and totals over them.
+
+    Each entry of ``episodes`` has ``episode`` (index), ``seed`` (its reset seed),
+    ``goals_for``, ``goals_against``, ``outcome``, ``return`` (the agent's summed reward; for
+    ``soccer_v0`` the mean over the agents) and ``length`` (decisions).
+    """
+
+    model: str
+    env_id: str
+    seed: int
+    env_kwargs: dict[str, Any]
+    episodes: list[dict[str, Any]] = field(default_factory=list)
+    seconds: float = 0.0
+    """Wall time of the episodes played by this call (resumed ones excluded), s."""
+
+    @property
+    def goals_for(self) -> int:
+        """Goals scored over all episodes."""
+        return sum(int(e["goals_for"]) for e in self.episodes)
+
+    @property
+    def goals_against(self) -> int:
+        """Goals conceded over all episodes."""
+        return sum(int(e["goals_against"]) for e in self.episodes)
+
+    @property
+    def outcomes(self) -> dict[str, int]:
+        """Episodes per outcome."""
+        return dict(Counter(str(e["outcome"]) for e in self.episodes).most_common())
+
+    @property
+    def mean_return(self) -> float:
+        """Mean episode return (NaN without episodes)."""
+        return float(np.mean([e["return"] for e in self.episodes])) if self.episodes else math.nan
+
+    @property
+    def std_return(self) -> float:
+        """Standard deviation of the episode return (NaN without episodes)."""
+        return float(np.std([e["return"] for e in self.episodes])) if self.episodes else math.nan
+
+    @property
+    def mean_length(self) -> float:
+        """Mean episode length in decisions (NaN without episodes)."""
+        return float(np.mean([e["length"] for e in self.episodes])) if self.episodes else math.nan
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-able summary and episodes."""
+        return {
+            "model": self.model,
+            "env_id": self.env_id,
+            "seed": self.seed,
+            "env_kwargs": self.env_kwargs,
+            "n_episodes": len(self.episodes),
+            "goals_for": self.goals_for,
+            "goals_against": self.goals_against,
+            "outcomes": self.outcomes,
+            "mean_return": self.mean_return,
+            "std_return": self.std_return,
+            "mean_length": self.mean_length,
+            "episodes": self.episodes,
+        }
+
+    def format(self) -> str:
+        """A readable report."""
+        n = len(self.episodes)
+        scored = sum(1 for e in self.episodes if e["goals_for"] > 0)
+        kw = ", ".join(f"{k}={v}" for k, v in sorted(self.env_kwargs.items())) or "defaults"
+        lines = [
+            f"evaluation of {self.model} on {self.env_id} ({kw}; seed {self.seed})",
+            f"  episodes         {n}",
+            f"  goals for        {self.goals_for}  (episodes with a goal: {scored}/{n})",
+            f"  goals against    {self.goals_against}",
+            "  outcomes         " + ", ".join(f"{k} {v}" for k, v in self.outcomes.items()),
+            f"  return           {self.mean_return:.2f} +- {self.std_return:.2f} (mean +- std)",
+            f"  length           {self.mean_length:.1f} decisions (mean)",
+        ]
+        if self.seconds > 0:
+            lines.append(f"  wall time        {self.seconds:.1f} s")
+        return "\n".join(lines)
+
+
+def episode_seed(seed: int, episode: int) -> int:
+    """The reset seed of evaluation episode ``episode`` (the same for every model)."""
+    return int(np.random.SeedSequence([int(seed), int(episode)]).generate_state(1)[0])
+
+
+def match_outcome(goals_for: int, goals_against: int) -> str:
+    """``won``, ``lost`` or ``draw`` of a ``soccer_v0`` match from the controlled team's view."""
+    if goals_for > goals_against:
+        return "won"
+    return "lost" if goals_for < goals_against else "draw"
+
+
+def _training_config(model_path: Path) -> dict[str, Any] | None:
+    """The ``config.json`` of the run that wrote ``model_path`` (beside it, or above ``checkpoints/``)."""
+    for folder in (model_path.parent, model_path.parent.parent):
+        path = folder / "config.json"
+        if path.is_file():
+            try:
+                data = json.loads(path.read_text())
+            except json.JSONDecodeError:
+                return None
+            if isinstance(data, dict) and data.get("algo") in ALGOS:
+                return data
+    return None
+
+
+def load_model(model_path: str | Path) -> Any:
+    """Load a saved SB3 model; the algorithm is read from the run's ``config.json`` or tried in turn."""
+    path = Path(model_path)
+    if not path.is_file():
+        raise FileNotFoundError(f"model file not found: {path} (train one with 'teamsim train ... --out DIR')")
+    config = _training_config(path)
+    algos = [config["algo"]] if config else list(ALGOS)
+    errors = []
+    for name in algos:
+        try:
+            return algo_class(name).load(path, device="cpu")
+        except Exception as exc:  # SB3 raises many kinds for a file of another algorithm
+            errors.append(f"{name}: {exc}")
+    raise ValueError(f"cannot load {path} as a Stable-Baselines3 model: {'; '.join(errors)}")
+
+
+def _read_jsonl(path: Path, key: dict[str, Any]) -> list[dict[str, Any]]:
+    """Episodes already in ``path`` that belong to this evaluation (``key``); rewrites a torn last line."""
+    if not path.is_file():
+        return []
+    good: list[dict[str, Any]] = []
+    torn = False
+    for number, line in enumerate(path.read_text().splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            entry = json.loads(line)
+        except json.JSONDecodeError:
+            torn = True  # an interrupted write; the episode is played again
+            continue
+        for k, v in key.items():
+            if entry.get(k) != v:
+                raise ValueError(
+                    f"{path} line {number} belongs to another evaluation ({k}={entry.get(k)!r}, now {v!r}); "
+                    "use another --out file"
+                )
+        good.append(entry)
+    if torn:
+        path.write_text("".join(json.dumps(e) + "\n" for e in good))
+    return good
+
+
+def evaluate(
+    model_path: str | Path,
+    env_id: str,
+    episodes: int = 50,
+    seed: int = 0,
+    env_kwargs: Mapping[str, Any] | None = None,
+    out: str | Path | None = None,
+) -> EvaluationReport:
+    """Play ``episodes`` episodes of ``env_id`` with a saved model or ``"random"`` actions (module docstring).
+
+    Raises ``FileNotFoundError`` for a missing model file and ``ValueError`` for an unknown
+    environment, ``episodes < 1``, or a model whose spaces do not fit the environment.
+    """
+    _check_env_id(env_id)
+    if not isinstance(episodes, int) or episodes < 1:
+        raise ValueError(f"episodes must be a positive integer, got {episodes!r}")
+    model = None
+    kwargs: dict[str, Any] = {}
+    name = str(model_path)
+    if name != "random":
+        model = load_model(model_path)
+        trained = _training_config(Path(model_path))
+        if trained is not None:
+            kwargs.update(trained.get("env_kwargs") or {})
+    kwargs.update(env_kwargs or {})
+    env = make_env(env_id, kwargs)
+    try:
+        if env_id == "soccer_v0":
+            obs_space = env.observation_space(env.possible_agents[0])
+            act_space = env.action_space(env.possible_agents[0])
+        else:
+            obs_space, act_space = env.observation_space, env.action_space
+        if model is not None and (model.observation_space != obs_space or model.action_space != act_space):
+            raise ValueError(
+                f"the model does not fit {env_id} with {kwargs or 'default arguments'}: it was trained on "
+                f"observations {model.observation_space} and actions {model.action_space}, the environment has "
+                f"{obs_space} and {act_space} (check --action-type and the environment arguments)"
+            )
+        report = EvaluationReport(model=name, env_id=env_id, seed=seed, env_kwargs=_jsonable(kwargs))
+        key = {"model": name, "env_id": env_id, "eval_seed": seed}
+        path = Path(out) if out is not None else None
+        done: dict[int, dict[str, Any]] = {}
+        if path is not None:
+            done = {int(e["episode"]): e for e in _read_jsonl(path, key)}
+            path.parent.mkdir(parents=True, exist_ok=True)
+        start = time.perf_counter()
+        for i in range(episodes):
+            if i in done:
+                report.episodes.append(done[i])
+                continue
+            play = _play_match if env_id == "soccer_v0" else _play_episode
+            entry = {**key, "episode": i, **play(env, model, act_space, episode_seed(seed, i))}
+            report.episodes.append(entry)
+            if path is not None:
+                with path.open("a") as f:
+                    f.write(json.dumps(entry) + "\n")
+        report.seconds = time.perf_counter() - start
+    finally:
+        env.close()
+    return report
+
+
+def _action(model: Any, space: gymnasium.Space, obs: np.ndarray) -> Any:
+    """The deterministic policy action for a batch of observations, or one random action each."""
+    if model is None:
+        return [space.sample() for _ in range(len(obs))]
+    actions, _ = model.predict(obs, deterministic=True)
+    return list(actions)
+
+
+def _play_episode(env: Any, model: Any, space: gymnasium.Space, seed: int) -> dict[str, Any]:
+    """One episode of a Gymnasium task."""
+    space.seed(seed)
+    obs, _ = env.reset(seed=seed)
+    total, length, info = 0.0, 0, {}
+    done = False
+    while not done:
+        action = _action(model, space, np.asarray(obs)[None])[0]
+        obs, reward, terminated, truncated, info = env.step(action)
+        total += float(reward)
+        length += 1
+        done = terminated or truncated
+    goals_for, goals_against = (int(v) for v in info.get("score", (0, 0)))
+    return {
+        "seed": seed,
+        "goals_for": goals_for,
+        "goals_against": goals_against,
+        "outcome": info.get("outcome") or ("time" if truncated else "over"),
+        "return": total,
+        "length": length,
+    }
+
+
+def _play_match(env: Any, model: Any, space: gymnasium.Space, seed: int) -> dict[str, Any]:
+    """One ``soccer_v0`` match: the shared policy plays every agent."""
+    space.seed(seed)
+    obs, _ = env.reset(seed=seed)
+    first = env.possible_agents[0]
+    totals = dict.fromkeys(env.possible_agents, 0.0)
+    score, length = (0, 0), 0
+    while env.agents:
+        agents = list(env.agents)
+        actions = _action(model, space, np.stack([obs[a] for a in agents]))
+        obs, rewards, _, _, infos = env.step(dict(zip(agents, actions, strict=True)))
+        for a, r in rewards.items():
+            totals[a] += float(r)
+        score = tuple(int(v) for v in infos[first]["score"])
+        length += 1
+    return {
+        "seed": seed,
+        "goals_for": score[0],
+        "goals_against": score[1],
+        "outcome": match_outcome(*score),
+        "return": float(np.mean(list(totals.values()))),
+        "length": length,
+    }
