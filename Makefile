@@ -19,6 +19,7 @@ bench:
 	python -m benchmarks.bench_images --json out/bench_images.json
 	python -m benchmarks.bench_localization --json out/bench_localization.json
 	python -m benchmarks.bench_worldmodel --json out/bench_worldmodel.json
+	python -m benchmarks.bench_envs --json out/bench_envs.json
 
 # torch first, pinned: an unpinned torch pulls a multi-GB CUDA build
 train-install:

@@ -39,7 +39,7 @@ needs_particles = pytest.mark.skipif(not _particles_available(), reason="particl
 def _config(localization: str | None, **kwargs: object) -> MatchConfig:
     """5 v 5 with a short READY phase: robots walk from about 2 s and play from 17 s."""
     referee = RefereeParams(half_seconds=60.0, ready_seconds=10.0)
-    return replace(MatchConfig(referee=referee, localization=localization), **kwargs)  # type: ignore[arg-type]
+    return replace(MatchConfig(players="oracle", referee=referee, localization=localization), **kwargs)  # type: ignore[arg-type]
 
 
 def _true_team_pose(match: Match, index: int) -> tuple[float, float, float]:
@@ -192,7 +192,7 @@ def test_brain_streams_are_new_children_after_the_old_ones() -> None:
 
 
 def test_default_brains_unchanged_by_localization_support() -> None:
-    cfg = MatchConfig(referee=RefereeParams(half_seconds=20.0, ready_seconds=8.0), players_per_team=3)
+    cfg = MatchConfig(players="oracle", referee=RefereeParams(half_seconds=20.0, ready_seconds=8.0), players_per_team=3)
     a, b = Match(cfg), Match(cfg, brains=oracle_brains)
     a.run(until=40.0)
     b.run(until=40.0)
@@ -202,7 +202,7 @@ def test_default_brains_unchanged_by_localization_support() -> None:
 # -- (c) configuration --------------------------------------------------------------------
 def test_unknown_variant_names_the_valid_ones() -> None:
     with pytest.raises(ValueError, match=r"MatchConfig\.localization must be one of .*'mcl'.*'oracle'"):
-        MatchConfig(localization="kalman")
+        MatchConfig(players="oracle", localization="kalman")
     with pytest.raises(ValueError, match=r"unknown localization variant 'kalman'; valid: .*'amcl'"):
         LocalizingBrain("kalman")
 
@@ -215,7 +215,7 @@ def test_localization_params_from_mapping_and_return_rule_from_referee() -> None
     with pytest.raises(ValueError, match=r"unknown MatchConfig\.localization_params key\(s\) \['partcles'\]"):
         MatchConfig.from_mapping({"localization_params": {"partcles": 3}})
     with pytest.raises(TypeError, match="localization_params"):
-        MatchConfig(localization_params=3)  # type: ignore[arg-type]
+        MatchConfig(players="oracle", localization_params=3)  # type: ignore[arg-type]
     m = Match(replace(cfg, players_per_team=1))
     for brain in m.brains:
         params = brain.localizer.params  # type: ignore[attr-defined]

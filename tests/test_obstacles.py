@@ -18,7 +18,7 @@ ROBOT = 2
 @pytest.fixture(scope="module")
 def frames_with_truth():
     """Frames of one robot and, per frame, the other robots' positions in its robot frame."""
-    m = Match(MatchConfig(seed=5))
+    m = Match(MatchConfig(players="oracle", seed=5))
     out, last = [], None
     while m.time < 20.0:
         m.step()
@@ -117,6 +117,8 @@ def test_models_are_chosen_by_name():
         make_ball_model("magic", 0.05)
     with pytest.raises(ValueError, match="unknown obstacle model"):
         LocalizingBrain("lowvar", obstacle_model="lidar")
-    m = Match(MatchConfig(seed=6), brains=lambda t, n: LocalizingBrain("lowvar", obstacle_model="grid"))
+    m = Match(
+        MatchConfig(players="oracle", seed=6), brains=lambda t, n: LocalizingBrain("lowvar", obstacle_model="grid")
+    )
     m.run(until=3.0)
     assert isinstance(m.brains[0].obstacles, ObstacleGrid) and m.brains[0].obstacle_model is not None

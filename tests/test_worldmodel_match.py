@@ -15,7 +15,15 @@ from teamsim.referee import RefereeParams
 
 
 def _run(channel: ChannelParams, seconds: float = 60.0):
-    m = Match(MatchConfig(seed=3, localization="lowvar", channel=channel, referee=RefereeParams(half_seconds=seconds)))
+    m = Match(
+        MatchConfig(
+            players="oracle",
+            seed=3,
+            localization="lowvar",
+            channel=channel,
+            referee=RefereeParams(half_seconds=seconds),
+        )
+    )
     contributors, errors = [], []
     while not m.referee.finished:
         m.step()
@@ -55,7 +63,7 @@ def test_loss_and_delay_degrade_gracefully():
 
 def test_sent_payloads_are_team_messages():
     ref = RefereeParams(half_seconds=20, initial_seconds=0.5, ready_seconds=2.0, set_seconds=1.0)
-    m = Match(MatchConfig(seed=4, localization="odometry", referee=ref))
+    m = Match(MatchConfig(players="oracle", seed=4, localization="odometry", referee=ref))
     sent = []
     orig = m.channel.send
 
@@ -77,7 +85,7 @@ def test_world_model_is_drawn_on_the_top_down_view():
     from teamsim.render import Belief, TopDownRenderer
 
     ref = RefereeParams(half_seconds=20, initial_seconds=0.5, ready_seconds=2.0, set_seconds=1.0)
-    m = Match(MatchConfig(seed=4, localization="lowvar", referee=ref))
+    m = Match(MatchConfig(players="oracle", seed=4, localization="lowvar", referee=ref))
     m.run(until=8.0)
     view = TopDownRenderer(m.field, make_colour_scheme("classic"))
     belief = belief_overlay(m, 0, 3)
@@ -100,9 +108,9 @@ def test_obstacle_model_is_chosen_in_the_match_config_and_cli(tmp_path):
     from teamsim.cli import main
 
     with pytest.raises(ValueError, match="obstacle_model"):
-        MatchConfig(obstacle_model="lidar")
+        MatchConfig(players="oracle", obstacle_model="lidar")
     ref = RefereeParams(half_seconds=20, initial_seconds=0.5, ready_seconds=2.0, set_seconds=1.0)
-    m = Match(MatchConfig(seed=2, localization="odometry", obstacle_model="grid", referee=ref))
+    m = Match(MatchConfig(players="oracle", seed=2, localization="odometry", obstacle_model="grid", referee=ref))
     m.run(until=2.0)
     assert all(isinstance(b.obstacles, ObstacleGrid) for b in m.brains)
     code = main(["match", "--localization", "odometry", "--obstacles", "grid", "--half-seconds", "5",
