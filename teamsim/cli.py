@@ -394,12 +394,10 @@ def run_train(args: argparse.Namespace, out: TextIO) -> int:
     """Run ``teamsim train`` with parsed arguments."""
     import time
 
-    try:
-        from envs.training import train
-    except ImportError as exc:
-        raise ValueError(f"{exc}; install the training extra: pip install -e '.[train]'") from exc
     start = time.perf_counter()
     try:
+        from envs.training import train
+
         path = train(
             args.env,
             algo=args.algo,
@@ -413,15 +411,15 @@ def run_train(args: argparse.Namespace, out: TextIO) -> int:
             hyperparams=_json_object(args.hyperparams, "--hyperparams"),
             resume=args.resume,
         )
+    except ImportError as exc:
+        raise ValueError(f"training needs the train extra (pip install -e '.[train]'): {exc}") from exc
     except KeyboardInterrupt:
         print(f"interrupted: checkpoints kept in {args.out / 'checkpoints'}; continue with --resume", file=out)
         return 130
     seconds = time.perf_counter() - start
-    print(
-        f"trained {args.algo} on {args.env}: {args.timesteps} steps in {seconds:.1f} s "
-        f"({args.timesteps / seconds:.0f} steps/s)\nmodel written to {path}",
-        file=out,
-    )
+    rate = "" if args.resume else f" ({args.timesteps / seconds:.0f} steps/s)"
+    print(f"trained {args.algo} on {args.env} to {args.timesteps} steps in {seconds:.1f} s{rate}", file=out)
+    print(f"model written to {path}", file=out)
     return 0
 
 
@@ -429,11 +427,12 @@ def run_evaluate(args: argparse.Namespace, out: TextIO) -> int:
     """Run ``teamsim evaluate`` with parsed arguments."""
     try:
         from envs.training import evaluate
+
+        report = evaluate(
+            args.model, args.env, episodes=args.episodes, seed=args.seed, env_kwargs=_rl_env_kwargs(args), out=args.out
+        )
     except ImportError as exc:
-        raise ValueError(f"{exc}; install the training extra: pip install -e '.[train]'") from exc
-    report = evaluate(
-        args.model, args.env, episodes=args.episodes, seed=args.seed, env_kwargs=_rl_env_kwargs(args), out=args.out
-    )
+        raise ValueError(f"evaluation needs the train extra (pip install -e '.[train]'): {exc}") from exc
     print(report.format(), file=out)
     if args.out is not None:
         print(f"episodes written to {args.out}", file=out)
