@@ -218,7 +218,7 @@ def test_localization_params_from_mapping_and_return_rule_from_referee() -> None
         MatchConfig(players="oracle", localization_params=3)  # type: ignore[arg-type]
     m = Match(replace(cfg, players_per_team=1))
     for brain in m.brains:
-        params = brain.localizer.params  # type: ignore[attr-defined]
+        params = brain.provider.localizer.params  # type: ignore[attr-defined]
         assert params.return_rule == "spl2010" and params.particles == 120
 
 
@@ -251,7 +251,7 @@ def test_cli_match_with_localization(tmp_path: Path, capsys: pytest.CaptureFixtu
     [
         (["--video-particles"], "needs --video"),
         (["--video-particles", "--video", "x.gif", "--video-robot", "none"], "needs --video"),
-        (["--video-particles", "--video", "x.gif"], "needs --localization"),
+        (["--video-particles", "--video", "x.gif", "--localization", "none"], "needs --localization"),
     ],
 )
 def test_cli_video_particles_needs_video_and_localization(

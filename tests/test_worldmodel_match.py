@@ -53,8 +53,8 @@ def test_messages_respect_a_tight_budget_and_are_all_valid():
 
 @pytest.mark.slow
 def test_loss_and_delay_degrade_gracefully():
-    clean = _run(ChannelParams(loss=0.0, delay=0.02, jitter=0.0), seconds=40.0)
-    lossy = _run(ChannelParams(loss=0.7, delay=0.5, jitter=0.3), seconds=40.0)
+    clean = _run(ChannelParams(loss=0.0, delay=0.02, jitter=0.0), seconds=20.0)
+    lossy = _run(ChannelParams(loss=0.7, delay=0.5, jitter=0.3), seconds=20.0)
     assert clean[0].channel.stats[0].lost == 0 and lossy[0].channel.stats[0].lost > 0
     assert all(b.team.rejected == 0 for b in lossy[0].brains)
     assert np.mean(lossy[1]) < np.mean(clean[1])  # fewer teammates heard
