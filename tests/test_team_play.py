@@ -68,7 +68,7 @@ def test_nearest_field_player_strikes_and_the_keeper_keeps() -> None:
 def test_striker_role_has_hysteresis_and_ignores_penalised_mates() -> None:
     mates = (mate(2, 1.2, 0.0, Role.NONE),)
     b = beliefs(3, (1.0, 0.0, 0.0), (1.4, 0.1), mates)  # 2 is 0.2 m nearer
-    assert assign_role(b, Role.NONE) == Role.SUPPORTER
+    assert assign_role(b, Role.NONE) == Role.DEFENDER  # 2 strikes even before it says so; 3 is the only back
     assert assign_role(b, Role.STRIKER) == Role.STRIKER  # keeps the role within the bonus
     gone = beliefs(3, (1.0, 0.0, 0.0), (1.4, 0.1), (mate(2, 1.2, 0.0, penalized=True),))
     assert assign_role(gone, Role.NONE) == Role.STRIKER
@@ -86,6 +86,24 @@ def test_striker_kicks_toward_the_goal_when_lined_up() -> None:
         # the kick line passes between the posts
         y_at_goal = by + math.tan(world_dir) * (FIELD.half_length - bx)
         assert abs(y_at_goal) < FIELD.dims.goal_inner_width / 2
+
+
+def test_ball_at_a_corner_is_played_with_a_side_kick_from_inside_the_limits() -> None:
+    # no line-up spot straight behind a corner ball lies within the field limits; the striker
+    # stands where it may and kicks sideways instead of waiting for LOCAL_GAME_STUCK
+    sk = Skills(context(3))
+    lim_x = FIELD.half_length + sk.params.outside_allowance
+    lim_y = FIELD.half_width + sk.params.outside_allowance
+    for bx, by in ((FIELD.half_length, -FIELD.half_width), (FIELD.half_length, FIELD.half_width)):
+        aim = sk.feasible_aim(bx, by)
+        heading = sk.lineup_heading(bx, by, aim)
+        assert heading is not None and abs(math.remainder(aim - heading, math.tau)) <= sk.params.side_kick + 1e-9
+        d = sk.params.approach_distance
+        sx, sy = bx - d * math.cos(heading), by - d * math.sin(heading)
+        assert abs(sx) <= lim_x + 1e-9 and abs(sy) <= lim_y + 1e-9
+        m = sk.kick_to_goal(beliefs(3, (sx, sy, heading), (bx, by)))
+        assert m.kick is not None and abs(m.kick.direction) > sk.params.kick_alignment  # a side kick
+        assert math.sin(heading + m.kick.direction) * -by > 0.0  # along the goal line, toward the goal
 
 
 def test_far_striker_walks_to_the_ball_and_keeper_stays_between_ball_and_goal() -> None:

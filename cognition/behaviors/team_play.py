@@ -59,19 +59,22 @@ def assign_role(b: Beliefs, current: Role = Role.NONE, own_goal_x: float = -4.5,
 
     mine = ball_dist(b.pose.x, b.pose.y) - (bonus if current == Role.STRIKER else 0.0)
     mates = [m for m in b.teammates if m.active and m.number != 1]
+    striker: Teammate | None = None
+    best = mine
     for m in mates:
         d = ball_dist(m.x, m.y) - (bonus if m.role == Role.STRIKER else 0.0)
-        if d < mine - 1e-9 or (abs(d - mine) <= 1e-9 and m.number < b.player_number):
-            return _back_role(b, mates, own_goal_x)
-    return Role.STRIKER
+        best_number = b.player_number if striker is None else striker.number
+        if d < best - 1e-9 or (abs(d - best) <= 1e-9 and m.number < best_number):
+            striker, best = m, d
+    if striker is None:
+        return Role.STRIKER
+    return _back_role(b, [m for m in mates if m is not striker], own_goal_x)
 
 
-def _back_role(b: Beliefs, mates: list[Teammate], own_goal_x: float) -> Role:
-    """Of the non-strikers, the one nearest the own goal defends, the others support."""
+def _back_role(b: Beliefs, backs: list[Teammate], own_goal_x: float) -> Role:
+    """Of the non-strikers (this robot and ``backs``), the one nearest the own goal defends, the others support."""
     own = math.hypot(b.pose.x - own_goal_x, b.pose.y)
-    for m in mates:
-        if m.role == Role.STRIKER:
-            continue
+    for m in backs:
         d = math.hypot(m.x - own_goal_x, m.y)
         if d < own - 1e-9 or (abs(d - own) <= 1e-9 and m.number < b.player_number):
             return Role.SUPPORTER
