@@ -25,7 +25,12 @@ teamsim/Keeper-v0      the agent is the goalkeeper (``home_1``); a scripted stri
                        goal conceded), ball progress 1 per metre (away from the own goal), penalty 1.
 =====================  ===================================================================================
 
-``info["outcome"]`` at the end says ``scored``, ``conceded``, ``out``, ``cleared`` or ``time``.
+``info["outcome"]`` at the end says ``scored``, ``conceded``, ``out`` (the ball left the field),
+``cleared`` (Keeper-v0), ``penalised``, ``time`` (``max_cycles``) or ``full_time`` (the match
+clock ran out, possible only with ``max_cycles`` beyond a half). ``penalised`` ends the episode when the
+referee removes the agent, e.g. for LOCAL_GAME_STUCK: the ball has stayed within 0.3 m for 20 s
+with the agent the nearest robot (:mod:`teamsim.fouls`), so a striker that stands at the ball
+without kicking it is stopped there.
 Keyword arguments of ``gymnasium.make`` are those of :class:`~envs.core.EnvConfig` (minus
 ``players_per_team`` and ``control``).
 """
@@ -53,16 +58,38 @@ def _place(match: Match, team: int, number: int, x: float, y: float, theta: floa
     match.world.robot(team, number).teleport(*team_to_world(match.referee.sign(0), x, y, theta))
 
 
-def _outcome(match: Match, start_score: tuple[int, int]) -> str | None:
-    """How the episode ended so far (home team's view), ``None`` while it goes on."""
-    ref = match.referee
-    if ref.score[0] > start_score[0]:
-        return "scored"
-    if ref.score[1] > start_score[1]:
-        return "conceded"
-    if ref.state != GameStateId.PLAYING or ref.set_play != SetPlay.NONE:
-        return "out"
-    return None
+class _Drill:
+    """Shared end of a drill: the agent is robot ``(0, agent_number)`` of the home team."""
+
+    agent_number = 0
+    outcome: str | None = None
+    """How the episode ended so far (module docstring), ``None`` while it goes on."""
+
+    def start(self, m: Match) -> None:
+        """Begin PLAYING now and remember the score."""
+        m.referee.play_now(0.0)
+        self.start_score = (m.referee.score[0], m.referee.score[1])
+        self.outcome = None
+
+    def finished(self, m: Match) -> bool:
+        """A goal, the ball out of play, a drill-specific end (:meth:`extra_outcome`), or the
+        agent penalised."""
+        ref = m.referee
+        if ref.score[0] > self.start_score[0]:
+            self.outcome = "scored"
+        elif ref.score[1] > self.start_score[1]:
+            self.outcome = "conceded"
+        elif ref.state != GameStateId.PLAYING or ref.set_play != SetPlay.NONE:
+            self.outcome = "out"
+        elif m.world.robot(0, self.agent_number).penalized:
+            self.outcome = "penalised"
+        else:
+            self.outcome = self.extra_outcome(m)
+        return self.outcome is not None
+
+    def extra_outcome(self, m: Match) -> str | None:
+        """A further way the drill ends (none by default)."""
+        return None
 
 
 class DefenderBrain(PolicyBrain):
@@ -77,8 +104,10 @@ class DefenderBrain(PolicyBrain):
         self.action = MACROS.index("defend")
 
 
-class StrikerDrill:
+class StrikerDrill(_Drill):
     """Set-up and end of a Striker-v0 episode (module table)."""
+
+    agent_number = 2
 
     def brain(self, team: int, number: int, truth: bool) -> Brain | None:
         """The opponent field player defends instead of attacking."""
@@ -96,17 +125,13 @@ class StrikerDrill:
         gx, gy = 0.5 * (bx + hl), 0.5 * by
         _place(m, 1, 2, gx + float(rng.uniform(-0.3, 0.3)), gy + float(rng.uniform(-0.5, 0.5)), math.pi)
         m.world.place_ball(bx * m.referee.sign(0), by * m.referee.sign(0))
-        m.referee.play_now(0.0)
-        self.start_score = (m.referee.score[0], m.referee.score[1])
-
-    def finished(self, m: Match) -> bool:
-        """A goal, the ball out of play, or the agent penalised."""
-        self.outcome = _outcome(m, self.start_score)
-        return self.outcome is not None or m.world.robot(0, 2).penalized
+        self.start(m)
 
 
-class KeeperDrill:
+class KeeperDrill(_Drill):
     """Set-up and end of a Keeper-v0 episode (module table)."""
+
+    agent_number = 1
 
     def brain(self, team: int, number: int, truth: bool) -> Brain | None:
         """Everyone plays the usual scripted game."""
@@ -122,16 +147,12 @@ class KeeperDrill:
         _place(m, 1, 1, hl - 0.3, 0.0, math.pi)
         _place(m, 0, 2, 2.0, 0.0, 0.0)
         m.world.place_ball(bx * m.referee.sign(0), by * m.referee.sign(0))
-        m.referee.play_now(0.0)
+        self.start(m)
         m.referee.penalize(0, 2, Penalty.SUBSTITUTE, 0.0, reason="drill")
-        self.start_score = (m.referee.score[0], m.referee.score[1])
 
-    def finished(self, m: Match) -> bool:
-        """A goal, the ball out of play or cleared into the opponent half, or the agent penalised."""
-        self.outcome = _outcome(m, self.start_score)
-        if self.outcome is None and m.world.ball.position.x * m.referee.sign(0) > 0.0:
-            self.outcome = "cleared"
-        return self.outcome is not None or m.world.robot(0, 1).penalized
+    def extra_outcome(self, m: Match) -> str | None:
+        """``cleared`` once the ball is in the opponent half."""
+        return "cleared" if m.world.ball.position.x * m.referee.sign(0) > 0.0 else None
 
 
 class _DrillEnv(gymnasium.Env):
@@ -173,7 +194,7 @@ class _DrillEnv(gymnasium.Env):
         obs, rewards, terminated, truncated, infos = self.core.step({self.agent: action}, [self.agent])
         info = dict(infos[self.agent])
         if terminated or truncated:
-            info["outcome"] = getattr(self.drill, "outcome", None) or ("time" if truncated else "over")
+            info["outcome"] = self.drill.outcome or ("time" if truncated else "full_time")
         return obs[self.agent], rewards[self.agent], bool(terminated), bool(truncated and not terminated), info
 
     def render(self) -> NDArray[np.uint8] | None:

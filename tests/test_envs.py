@@ -12,7 +12,7 @@ from gymnasium.utils.env_checker import check_env
 from pettingzoo.test import api_test, max_cycles_test, parallel_api_test, parallel_seed_test, render_test
 
 import envs  # noqa: F401  (registers the Gymnasium ids)
-from cognition.behaviors.actions import ActionError
+from cognition.behaviors.actions import MACROS, ActionError
 from envs import soccer_v0
 from teamsim.placement import world_to_team
 
@@ -215,5 +215,19 @@ def test_drills_end_with_an_outcome() -> None:
             _, _, term, trunc, info = env.step(0)  # the keeper stands still
             done = term or trunc
         outcomes.append(info["outcome"])
-    assert set(outcomes) <= {"scored", "conceded", "out", "cleared", "time"}
+    assert set(outcomes) <= {"scored", "conceded", "out", "cleared", "penalised", "time"}
     assert "conceded" in outcomes  # a scripted striker beats a keeper that does nothing
+
+
+def test_striker_that_never_kicks_is_penalised_for_a_stuck_game() -> None:
+    # go_to_ball lines up behind the ball and never kicks: after 20 s the referee removes the
+    # robot nearest the still ball (LOCAL_GAME_STUCK) and the episode ends "penalised"
+    env = gymnasium.make("teamsim/Striker-v0", action_type="discrete", max_cycles=400)
+    env.reset(seed=1)
+    steps, done = 0, False
+    while not done:
+        _, _, term, trunc, info = env.step(MACROS.index("go_to_ball"))
+        steps += 1
+        done = term or trunc
+    assert info["outcome"] == "penalised" and term and not trunc
+    assert 195 <= steps <= 215  # 20 s at 10 decisions per second

@@ -130,7 +130,7 @@ def test_evaluate_reports_episodes_and_resumes_from_jsonl(tmp_path: Path) -> Non
     assert [e["episode"] for e in first.episodes] == [0, 1, 2]
     for e in first.episodes:
         assert 1 <= e["length"] <= 40
-        assert e["outcome"] in {"scored", "conceded", "out", "time", "over"}
+        assert e["outcome"] in {"scored", "conceded", "out", "penalised", "time"}
         assert e["goals_for"] == int(e["outcome"] == "scored")
     assert len(log.read_text().splitlines()) == 3
     again = evaluate(model, "teamsim/Striker-v0", episodes=4, seed=5, out=log)

@@ -26,7 +26,10 @@ index  name            skill
 0      stand           stand still
 1      go_to_ball      walk to the line-up spot behind the ball, facing the aim; no kick
 2      kick_to_goal    approach, align and kick toward the opponent goal
-3      pass            kick toward the best-placed teammate
+3      pass            kick toward the best-placed field teammate ahead of the ball
+                       (:meth:`Skills.pass_receiver`); with none, or no free kick line, as
+                       kick_to_goal (so in Striker-v0, whose only teammate is the keeper,
+                       pass and kick_to_goal coincide)
 4      defend          stand between the ball and the own goal
 5      support         hold a supporting spot relative to the ball
 6      scan            stand and sweep the head for landmarks
