@@ -7,7 +7,8 @@ module / id                 content
 ``teamsim/Striker-v0``      Gymnasium: one striker against a scripted defender and keeper
 ``teamsim/Keeper-v0``       Gymnasium: one goalkeeper against a scripted attacker
 :mod:`envs.core`            the shared machinery (match, policy robots, rewards, rendering)
-:mod:`envs.training`        ``teamsim train`` / ``teamsim evaluate`` with Stable-Baselines3
+:mod:`envs.training`        ``teamsim train`` with Stable-Baselines3 (SuperSuit for soccer_v0)
+:mod:`envs.evaluation`      ``teamsim evaluate``: a trained policy over seeds, goals for/against
 ==========================  ====================================================================
 
 Importing :mod:`envs` registers the Gymnasium ids.

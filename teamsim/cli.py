@@ -12,7 +12,7 @@ gallery        render the README's gallery of camera images (docs/gallery)
 train          train a policy on teamsim/Striker-v0, teamsim/Keeper-v0 or soccer_v0
                with Stable-Baselines3 (:mod:`envs.training`; needs the train extra)
 evaluate       play episodes with a trained model or random actions; report goals,
-               outcomes and returns
+               outcomes and returns (:mod:`envs.evaluation`)
 =============  ==================================================================
 
 ``teamsim match --out DIR`` writes ``config.json`` first, appends every event to
@@ -426,7 +426,7 @@ def run_train(args: argparse.Namespace, out: TextIO) -> int:
 def run_evaluate(args: argparse.Namespace, out: TextIO) -> int:
     """Run ``teamsim evaluate`` with parsed arguments."""
     try:
-        from envs.training import evaluate
+        from envs.evaluation import evaluate
 
         report = evaluate(
             args.model, args.env, episodes=args.episodes, seed=args.seed, env_kwargs=_rl_env_kwargs(args), out=args.out

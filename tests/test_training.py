@@ -14,7 +14,8 @@ from stable_baselines3 import PPO
 from stable_baselines3.common.env_checker import check_env
 
 import envs  # noqa: F401  (registers the Gymnasium ids)
-from envs.training import evaluate, latest_checkpoint, make_vec_env, train
+from envs.evaluation import evaluate
+from envs.training import latest_checkpoint, make_vec_env, train
 from teamsim.cli import main
 
 MODES = [(obs, act) for obs in ("truth", "percepts") for act in ("continuous", "discrete")]
