@@ -49,12 +49,17 @@ than ``contact_distance`` (robot frame), and targets stay inside the field lines
 SkillParams            default  meaning
 =====================  =======  ======================================================================
 approach_distance      0.22     line-up distance behind the ball (m, centre to centre)
-kick_distance          0.26     largest robot-ball distance at which a kick is started (m)
+kick_distance          0.29     largest robot-ball distance at which a kick is started (m, centre to
+                                centre; the kick connects up to 0.31 m, :mod:`teamsim.robot`)
 kick_bearing           0.35     largest |bearing| of the ball at which a kick is started (rad)
 kick_alignment         0.6      largest |aim - heading| at which a kick is started (rad)
+side_kick              1.0      largest |aim - heading| of a side kick, used when the line-up spot
+                                straight behind the ball is off limits (ball at a corner or a line);
+                                the robot's kick reaches 1.05 rad (:mod:`teamsim.robot`)
 keep_away              0.8      distance kept from the ball in the opponent's kickoff or set play (m)
 personal_space         0.45     walk targets are kept this far from other robots (m, centre to centre)
-outside_allowance      0.1      how far beyond the field lines a target may lie (m)
+outside_allowance      0.1      how far beyond the field lines a target may lie (m); a robot of
+                                radius 0.14 m leaves the field (penalised) past 0.165 m
 close_to_goal          2.5      goal distance (m) below which the goal model aims the kick
 goal_confidence        0.5      least goal-model confidence to aim with it
 goal_gate              1.5      the goal model must lie within this of the opponent goal by the pose (m)
@@ -102,9 +107,10 @@ class SkillParams:
     """Tuning of the skills (table in the module docstring)."""
 
     approach_distance: float = 0.22
-    kick_distance: float = 0.26
+    kick_distance: float = 0.29
     kick_bearing: float = 0.35
     kick_alignment: float = 0.6
+    side_kick: float = 1.0
     keep_away: float = 0.8
     personal_space: float = 0.45
     outside_allowance: float = 0.1
@@ -124,7 +130,8 @@ class SkillParams:
         o = "SkillParams"
         check_positive(
             o, approach_distance=self.approach_distance, kick_distance=self.kick_distance,
-            kick_bearing=self.kick_bearing, kick_alignment=self.kick_alignment, keep_away=self.keep_away,
+            kick_bearing=self.kick_bearing, kick_alignment=self.kick_alignment, side_kick=self.side_kick,
+            keep_away=self.keep_away,
             personal_space=self.personal_space, close_to_goal=self.close_to_goal, goal_gate=self.goal_gate,
             defend_distance=self.defend_distance, contact_distance=self.contact_distance,
             search_turn=self.search_turn, kick_speed=self.kick_speed, ball_deceleration=self.ball_deceleration,
@@ -206,7 +213,7 @@ class Skills:
         bx, by = ball[0], ball[1]
         tx, ty = self._clamp_x(mate.x + self.params.pass_lead), mate.y
         aim = math.atan2(ty - by, tx - bx)
-        if not self._feasible(bx, by, aim):
+        if self.lineup_heading(bx, by, aim) is None:
             return self.kick_to_goal(b)
         p = self.params
         dist = math.hypot(tx - bx, ty - by)
@@ -349,20 +356,41 @@ class Skills:
             gx, gy = b.to_field(g.centre_x, g.centre_y)
             if math.hypot(gx - self._hl, gy) < p.goal_gate:
                 aim = math.atan2(g.centre_y - ry, g.centre_x - rx)
-                if self._feasible(bx, by, aim + th):
+                if self.lineup_heading(bx, by, aim + th) is not None:
                     return aim
         return wrap_angle(self.feasible_aim(bx, by) - th)
 
     def feasible_aim(self, bx: float, by: float) -> float:
         """Aim (rad, team frame) from the ball at (bx, by) (team frame): at the opponent goal if
-        the line-up spot behind the ball lies inside the field, else at points further back up
-        the field, else toward the centre of the field."""
+        the robot can line up for it (:meth:`lineup_heading`), else at points further back up
+        the field, else toward the centre of the field; at a corner, where none of these can be
+        reached, the reachable direction nearest to the goal (along the goal line toward the goal
+        mouth: the robot must stay inside the field limits)."""
         hl = self._hl
         for tx in (hl + 0.2, hl / 2, 0.0):
             aim = math.atan2(-by, tx - bx)
-            if self._feasible(bx, by, aim):
+            if self.lineup_heading(bx, by, aim) is not None:
                 return aim
+        goal = math.atan2(-by, hl + 0.2 - bx)
+        for k in range(1, 64):
+            for aim in (goal + 0.05 * k, goal - 0.05 * k):
+                if self.lineup_heading(bx, by, aim) is not None:
+                    return wrap_angle(aim)
         return math.atan2(-by, -bx)
+
+    def lineup_heading(self, bx: float, by: float, aim: float) -> float | None:
+        """Heading (rad, team frame) to line up with for a kick toward ``aim`` (team frame) of the
+        ball at (bx, by): the aim itself if the spot ``approach_distance`` behind the ball lies
+        within the field limits, else the heading nearest to it, at most ``side_kick`` away, whose
+        spot does (a side kick); ``None`` if there is none."""
+        if self._feasible(bx, by, aim):
+            return aim
+        step = 0.05
+        for k in range(1, int(self.params.side_kick / step) + 1):
+            for heading in (aim - k * step, aim + k * step):
+                if self._feasible(bx, by, heading):
+                    return wrap_angle(heading)
+        return None
 
     # -- internals -----------------------------------------------------------------------------------
     def _feasible(self, bx: float, by: float, aim: float) -> bool:
@@ -370,18 +398,24 @@ class Skills:
         return abs(bx - d * math.cos(aim)) <= self._lim_x and abs(by - d * math.sin(aim)) <= self._lim_y
 
     def _play(self, b: Beliefs, ball: Ball, aim: float, strength: float) -> MotionRequest:
-        """Kick toward ``aim`` (rad, robot frame) when in position, else approach."""
+        """Kick toward ``aim`` (rad, robot frame) when in position, else approach the line-up spot
+        (:meth:`lineup_heading`; straight behind the ball, or beside it for a side kick)."""
         p = self.params
-        rx, ry = ball[2], ball[3]
+        bx, by, rx, ry = ball
+        th = b.pose.theta
+        heading = self.lineup_heading(bx, by, aim + th)
+        side = 0.0 if heading is None else abs(wrap_angle(aim + th - heading))
+        tolerance = p.kick_alignment if side < 1e-9 else min(p.side_kick, side) + 0.15
         seen = b.ball.level == "valid"
         if (
             seen
             and rx * rx + ry * ry < p.kick_distance * p.kick_distance
             and abs(math.atan2(ry, rx)) < p.kick_bearing
-            and abs(aim) < p.kick_alignment
+            and abs(aim) < tolerance
         ):
             return MotionRequest(kick=KickRequest(direction=aim, strength=strength))
-        return MotionRequest(walk=self._approach(b, ball, aim))
+        approach = aim if heading is None else wrap_angle(heading - th)
+        return MotionRequest(walk=self._approach(b, ball, approach))
 
     def _approach(self, b: Beliefs, ball: Ball, aim: float) -> WalkRequest:
         """Walk to the line-up spot behind the ball for ``aim`` (rad, robot frame).
@@ -460,7 +494,20 @@ class Skills:
                 v = fwd * ux + left * uy
                 if v > 0.0:
                     fwd, left = fwd - v * ux, left - v * uy
+        fwd, left = self._stay_inside(b, fwd, left)
         return WalkRequest(forward=fwd, left=left, turn=2.0 * err)
+
+    def _stay_inside(self, b: Beliefs, fwd: float, left: float) -> tuple[float, float]:
+        """Drop the part of a walk (robot frame, m/s) that leads further out once the robot is at
+        the field limits: blocked by a goal post or a robot, the walk would slide it off the field."""
+        x, y, th = b.pose.x, b.pose.y, b.pose.theta
+        c, s = math.cos(th), math.sin(th)
+        vx, vy = c * fwd - s * left, s * fwd + c * left  # team frame
+        if abs(x) >= self._lim_x and x * vx > 0.0:
+            vx = 0.0
+        if abs(y) >= self._lim_y and y * vy > 0.0:
+            vy = 0.0
+        return c * vx + s * vy, -s * vx + c * vy
 
 
 def _bend(obstacles: list[tuple[float, float, float]], ax: float, ay: float) -> tuple[float, float]:
