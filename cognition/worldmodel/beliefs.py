@@ -106,6 +106,26 @@ class Beliefs:
     """Active gaze: a suspicious ball hypothesis (robot frame, m) the world model asks to check."""
     source: Literal["cognition", "truth"] = "cognition"
 
+    @classmethod
+    def of_frame(
+        cls,
+        frame: SensorFrame,
+        player_number: int,
+        pose: RobotPose,
+        ball: BallModel,
+        team_ball: TeamBallEstimate | None,
+        goal: GoalEstimate | None,
+        teammates: tuple[Teammate, ...],
+        obstacles: NDArray[np.float64],
+        look_at: tuple[float, float] | None,
+        source: Literal["cognition", "truth"],
+    ) -> Beliefs:
+        """Beliefs with time, game state, penalty and body signals taken from ``frame``."""
+        return cls(
+            frame.time, player_number, frame.game, frame.penalty, frame.fallen, frame.picked_up,
+            pose, ball, team_ball, goal, teammates, obstacles, look_at, source,
+        )  # fmt: skip
+
     def to_robot(self, x: float, y: float) -> tuple[float, float]:
         """A team-frame point (m) in the robot frame of the estimated pose."""
         p = self.pose
@@ -195,22 +215,10 @@ class CognitionBeliefs:
             )
             for m in sorted(mates, key=lambda m: m.player)
         )  # fmt: skip
-        self.latest = Beliefs(
-            time=frame.time,
-            player_number=self.context.player_number,
-            game=frame.game,
-            penalty=frame.penalty,
-            fallen=frame.fallen,
-            picked_up=frame.picked_up,
-            pose=pose,
-            ball=ball,
-            team_ball=tb,
-            goal=self.goal_model.estimate(),
-            teammates=teammates,
-            obstacles=self.obstacle_model.obstacles,
-            look_at=belief.look_at,
-            source="cognition",
-        )
+        self.latest = Beliefs.of_frame(
+            frame, self.context.player_number, pose, ball, tb, self.goal_model.estimate(), teammates,
+            self.obstacle_model.obstacles, belief.look_at, "cognition",
+        )  # fmt: skip
         return self.latest
 
     def message(self, role: Role = Role.NONE) -> bytes:
@@ -280,22 +288,9 @@ class TruthBeliefs:
             if p.active
         ]
         obstacles = np.array(others) if others else _EMPTY2
-        self.latest = Beliefs(
-            time=frame.time,
-            player_number=self.context.player_number,
-            game=frame.game,
-            penalty=frame.penalty,
-            fallen=frame.fallen,
-            picked_up=frame.picked_up,
-            pose=pose,
-            ball=ball,
-            team_ball=TeamBallEstimate(oracle.ball_x, oracle.ball_y, 0.0, 0.0, 0.0, (self.context.player_number,)),
-            goal=goal,
-            teammates=teammates,
-            obstacles=obstacles,
-            look_at=None,
-            source="truth",
-        )
+        number = self.context.player_number
+        tb = TeamBallEstimate(oracle.ball_x, oracle.ball_y, 0.0, 0.0, 0.0, (number,))
+        self.latest = Beliefs.of_frame(frame, number, pose, ball, tb, goal, teammates, obstacles, None, "truth")
         return self.latest
 
 
