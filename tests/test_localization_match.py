@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cognition.behaviors.localizing_players import HeadScanParams, LocalizingBrain
+from cognition.behaviors.head_control import HeadParams
+from cognition.behaviors.localizing_players import LocalizingBrain
 from cognition.field import make_colour_scheme
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
@@ -148,7 +149,7 @@ def test_head_scans_every_few_seconds_and_while_lost() -> None:
     assert min(yaws) < -1.2 and max(yaws) > 1.2 and max(abs(y) for y in yaws) <= 1.5 + 1e-9
 
     # a lost estimate makes the head scan outside the routine window too
-    brain = LocalizingBrain("oracle", scan_params=HeadScanParams(scan_period=100.0, scan_duration=0.5))
+    brain = LocalizingBrain("oracle", head_params=HeadParams(scan_period=100.0, scan_duration=0.5))
     brain.reset(m.brains[0].context)  # type: ignore[attr-defined]
     frame = m.last_frames[0]
     assert frame is not None

@@ -11,10 +11,11 @@ state    behaviour (checked in this order each frame)
 scan     the pose estimate is ``lost`` or its position std exceeds ``uncertain_std`` (until it is
          below ``certain_std`` again), or a routine scan is due: ``scan_duration`` s every
          ``scan_period`` s, player n shifted by n * ``player_offset`` s so that the team does not
-         look away from the ball all at once. A triangle sweep of the yaw between
+         look away from the ball all at once. A triangle sweep of the yaw (robot frame) between
          ``-scan_yaw`` and ``+scan_yaw`` at ``scan_pitch``, upper camera, starting on the side the
-         head points to (as :mod:`cognition.behaviors.localizing_players` does). The lost scan
-         comes first; the routine scan yields to ``look_at``
+         head points to (:class:`HeadSweep`, shared with
+         :mod:`cognition.behaviors.localizing_players`). The lost scan comes first; the routine
+         scan yields to ``look_at``
 look_at  the world model asks to check a suspicious ball (``Beliefs.look_at``, robot frame)
 search   nobody knows where the ball is: the same sweep as ``scan``
 ball     look at the ball (``Beliefs.best_ball()`` through the estimated pose)
@@ -47,6 +48,10 @@ upper_above        0.9      ball distance (m) above which the upper camera is re
 pitch_min          -0.3     pitch limits while tracking (rad)
 pitch_max          0.5
 =================  =======  ========================================================
+
+The routine timing and the sweep (``scan_period`` to ``player_offset``) live in
+:class:`HeadSweep`, which :class:`~cognition.behaviors.localizing_players.LocalizingBrain`
+uses too; it reads only those six rows.
 """
 
 from __future__ import annotations
@@ -107,6 +112,46 @@ class HeadParams:
             raise ValueError(f"{o}.pitch_min ({self.pitch_min}) must be below pitch_max ({self.pitch_max})")
 
 
+class HeadSweep:
+    """The landmark scan: when routine scans run, and the triangle sweep of the head yaw.
+
+    Reads the ``scan_*`` rows and ``player_offset`` of :class:`HeadParams` (module docstring).
+    One sweep goes from ``side * scan_yaw`` to ``-side * scan_yaw`` (rad, robot frame) in
+    ``scan_duration`` s and then back, at ``scan_pitch`` with the upper camera.
+    """
+
+    def __init__(self, params: HeadParams) -> None:
+        self.params = params
+        self.start = 0.0
+        """When the current sweep began (s, match time)."""
+        self.side = 1.0
+        """The side it began on: +1 left (positive yaw), -1 right."""
+
+    def routine_due(self, now: float, player_number: int) -> bool:
+        """Whether the routine scan of ``player_number`` runs at ``now`` (s, match time).
+
+        ``scan_duration`` s every ``scan_period`` s, player n shifted by n * ``player_offset`` s.
+        """
+        p = self.params
+        phase = (now - player_number * p.player_offset) % p.scan_period
+        return phase < p.scan_duration
+
+    def begin(self, now: float, yaw: float) -> None:
+        """Start a sweep at ``now`` (s) on the side the head points to (``yaw``, rad, robot frame)."""
+        self.start = now
+        self.side = 1.0 if yaw >= 0.0 else -1.0
+
+    def request(self, now: float) -> HeadRequest:
+        """The sweep's head request at ``now`` (s): the yaw (rad, robot frame) runs from ``side * scan_yaw``."""
+        p = self.params
+        u = max(0.0, now - self.start) / p.scan_duration
+        leg = math.floor(u)
+        frac = u - leg
+        pos = frac if leg % 2 == 0 else 1.0 - frac
+        yaw = self.side * p.scan_yaw * (1.0 - 2.0 * pos)
+        return HeadRequest(yaw=yaw, pitch=p.scan_pitch, speed=p.scan_speed, camera="upper")
+
+
 class HeadControl:
     """The head's state machine (module docstring); ``state`` names the current state."""
 
@@ -117,8 +162,8 @@ class HeadControl:
         self.camera: Literal["upper", "lower"] = "upper"
         """The camera read while tracking (switched with hysteresis on the distance)."""
         self._uncertain = False
-        self._scan_start = 0.0
-        self._scan_side = 1.0
+        self.sweep = HeadSweep(self.params)
+        """The landmark sweep of the ``scan`` and ``search`` states."""
         self._yaw = 0.0
         """The latest requested yaw (rad): where the head points, roughly."""
 
@@ -127,7 +172,7 @@ class HeadControl:
         state = self._transition(b)
         if state in ("scan", "search"):
             if self.state not in ("scan", "search"):
-                self._start_sweep(b.time)
+                self.sweep.begin(b.time, self._yaw)
             self.state = state
             return self._sweep(b.time)
         self.state = state
@@ -141,7 +186,7 @@ class HeadControl:
     def scan(self, b: Beliefs) -> HeadRequest:
         """Force a landmark scan now (a policy's ``scan`` macro-action)."""
         if self.state not in ("scan", "search"):
-            self._start_sweep(b.time)
+            self.sweep.begin(b.time, self._yaw)
         self.state = "scan"
         return self._sweep(b.time)
 
@@ -176,27 +221,17 @@ class HeadControl:
             return "scan"
         if b.look_at is not None:
             return "look_at"
-        phase = (b.time - self.context.player_number * p.player_offset) % p.scan_period
-        if phase < p.scan_duration:
+        if self.sweep.routine_due(b.time, self.context.player_number):
             return "scan"
         return "ball" if _ball_robot(b) is not None else "search"
 
     # -- the sweep ---------------------------------------------------------------------------
-    def _start_sweep(self, now: float) -> None:
-        self._scan_start = now
-        self._scan_side = 1.0 if self._yaw >= 0.0 else -1.0
-
     def _sweep(self, now: float) -> HeadRequest:
-        """Triangle sweep: from ``side * scan_yaw`` to the other side in ``scan_duration``, and back."""
-        p = self.params
-        u = max(0.0, now - self._scan_start) / p.scan_duration
-        leg = math.floor(u)
-        frac = u - leg
-        pos = frac if leg % 2 == 0 else 1.0 - frac
-        yaw = self._scan_side * p.scan_yaw * (1.0 - 2.0 * pos)
-        self._yaw = yaw
+        """The sweep's request (:meth:`HeadSweep.request`); the tracking camera is reset to the upper one."""
+        r = self.sweep.request(now)
+        self._yaw = r.yaw
         self.camera = "upper"
-        return HeadRequest(yaw=yaw, pitch=p.scan_pitch, speed=p.scan_speed)
+        return r
 
 
 def _ball_robot(b: Beliefs) -> tuple[float, float] | None:

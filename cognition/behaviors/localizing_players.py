@@ -20,35 +20,29 @@ The head has its own small state machine, so that the camera sees landmarks:
 state  behaviour
 =====  =====================================================================================
 ball   look at the ball (bearing from the estimated pose), as the oracle players do
-scan   sweep the head yaw between ``-scan_yaw`` and ``+scan_yaw`` (rad) at ``scan_pitch``,
-       starting on the side the head points to; entered while the estimate is ``lost``
-       and for ``scan_duration`` seconds every ``scan_period`` seconds (shifted per
-       player so that the team does not look away from the ball all at once)
+scan   sweep the head yaw (robot frame) between ``-scan_yaw`` and ``+scan_yaw`` (rad) at
+       ``scan_pitch``, starting on the side the head points to (its measured yaw); entered
+       while the estimate is ``lost`` and for ``scan_duration`` s every ``scan_period`` s
+       (player n shifted by n * ``player_offset`` s so that the team does not look away from
+       the ball all at once)
 =====  =====================================================================================
 
-=================  =======  ========================================================
-HeadScanParams     default  meaning
-=================  =======  ========================================================
-scan_period        5.0      seconds between the starts of two routine scans
-scan_duration      1.0      length of one sweep from one side to the other (s)
-scan_yaw           1.4      sweep amplitude (rad, both sides)
-scan_pitch         0.3      head pitch while scanning (rad, positive looks down)
-scan_speed         4.0      maximum head speed requested while scanning (rad/s)
-player_offset      0.7      the routine scan of player n starts n * offset s later
-=================  =======  ========================================================
+The scan is the scripted players' :class:`~cognition.behaviors.head_control.HeadSweep`, tuned
+by the ``scan_*`` and ``player_offset`` fields of
+:class:`~cognition.behaviors.head_control.HeadParams` (table and defaults in
+:mod:`cognition.behaviors.head_control`); the other fields are not read here.
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
+from cognition.behaviors.head_control import HeadParams, HeadSweep
 from cognition.behaviors.oracle_players import OracleBrain, OracleParams
 from cognition.brain import BrainContext
 from cognition.localization import VARIANTS, LocalizationParams, Localizer
 from cognition.oracle import OracleInput
-from cognition.params import check_non_negative, check_positive
-from cognition.representations import BallModel, BrainOutput, HeadRequest, RobotPose, SensorFrame
+from cognition.representations import BallModel, BrainOutput, RobotPose, SensorFrame
 from cognition.worldmodel import OBSTACLE_MODELS
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs
 from cognition.worldmodel.goal import GoalEstimate
@@ -60,35 +54,12 @@ _ROLES = {"keeper": Role.KEEPER, "strike": Role.STRIKER, "support": Role.SUPPORT
 """The team-message role of each body state (others send :attr:`Role.NONE`)."""
 
 
-@dataclass(frozen=True)
-class HeadScanParams:
-    """When and how the head scans for landmarks (table in the module docstring)."""
-
-    scan_period: float = 5.0
-    scan_duration: float = 1.0
-    scan_yaw: float = 1.4
-    scan_pitch: float = 0.3
-    scan_speed: float = 4.0
-    player_offset: float = 0.7
-
-    def __post_init__(self) -> None:
-        o = "HeadScanParams"
-        check_positive(o, scan_period=self.scan_period, scan_duration=self.scan_duration, scan_speed=self.scan_speed)
-        check_non_negative(o, scan_yaw=self.scan_yaw, player_offset=self.player_offset)
-        if not math.isfinite(self.scan_pitch):
-            raise ValueError(f"{o}.scan_pitch must be a finite number, got {self.scan_pitch!r}")
-        if self.scan_duration > self.scan_period:
-            raise ValueError(
-                f"{o}.scan_duration ({self.scan_duration}) must not exceed scan_period ({self.scan_period})"
-            )
-
-
 class LocalizingBrain(OracleBrain):
     """A scripted player that localizes with ``variant`` and acts on the estimate.
 
-    ``params`` tune the localization, ``oracle_params`` the scripted play, ``scan_params``
-    the head scans; ``obstacle_model`` names the obstacle model (``sectors`` or ``grid``).
-    Localization and world model run in a
+    ``params`` tune the localization, ``oracle_params`` the scripted play, ``head_params``
+    the head scans (only its ``scan_*`` and ``player_offset`` fields); ``obstacle_model``
+    names the obstacle model (``sectors`` or ``grid``). Localization and world model run in a
     :class:`~cognition.worldmodel.beliefs.CognitionBeliefs` (``world_model``, built in
     :meth:`reset`); ``beliefs`` is its latest :class:`~cognition.worldmodel.beliefs.Beliefs`
     and the other world-model attributes are read-only views of it (``None`` before
@@ -102,7 +73,7 @@ class LocalizingBrain(OracleBrain):
         variant: str,
         params: LocalizationParams | None = None,
         oracle_params: OracleParams | None = None,
-        scan_params: HeadScanParams | None = None,
+        head_params: HeadParams | None = None,
         obstacle_model: str = "sectors",
     ):
         if variant not in VARIANTS:
@@ -112,13 +83,14 @@ class LocalizingBrain(OracleBrain):
         super().__init__(oracle_params)
         self.variant = variant
         self.localization_params = params or LocalizationParams()
-        self.scan_params = scan_params or HeadScanParams()
+        self.head_params = head_params or HeadParams()
         self.obstacle_model_name = obstacle_model
         self.world_model: CognitionBeliefs | None = None
         """Localization and world model on the robot's own frames (built in :meth:`reset`)."""
         self.head_state = "ball"
-        self._scan_start = 0.0
-        self._scan_side = 1.0
+        """The head's state: ``ball`` or ``scan`` (module docstring)."""
+        self.sweep = HeadSweep(self.head_params)
+        """The landmark scan: routine timing and the yaw sweep."""
 
     # -- read-only views of the world model -------------------------------------------------
     @property
@@ -175,8 +147,7 @@ class LocalizingBrain(OracleBrain):
         super().reset(context)
         self.world_model = CognitionBeliefs(context, self.variant, self.localization_params, self.obstacle_model_name)
         self.head_state = "ball"
-        self._scan_start = 0.0
-        self._scan_side = 1.0
+        self.sweep = HeadSweep(self.head_params)
 
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Localize, then play the oracle players' game with the estimated own pose."""
@@ -190,7 +161,7 @@ class LocalizingBrain(OracleBrain):
         out = super().think(frame, believed)
         self.head_state = self._head_transition(frame, pose)
         if self.head_state == "scan":
-            out = replace(out, motion=replace(out.motion, head=self._scan_head(frame)))
+            out = replace(out, motion=replace(out.motion, head=self.sweep.request(frame.time)))
         return out
 
     def _payload(self, frame: SensorFrame, oracle: OracleInput) -> bytes:
@@ -200,21 +171,9 @@ class LocalizingBrain(OracleBrain):
 
     # -- head ------------------------------------------------------------------------------
     def _head_transition(self, frame: SensorFrame, pose: RobotPose) -> str:
+        """``scan`` while lost or a routine scan is due, else ``ball``; a new scan starts on the measured yaw's side."""
         assert self.context is not None
-        p = self.scan_params
-        phase = (frame.time - self.context.player_number * p.player_offset) % p.scan_period
-        wanted = "scan" if pose.lost or phase < p.scan_duration else "ball"
+        wanted = "scan" if pose.lost or self.sweep.routine_due(frame.time, self.context.player_number) else "ball"
         if wanted == "scan" and self.head_state != "scan":
-            self._scan_start = frame.time
-            self._scan_side = 1.0 if frame.head.yaw >= 0.0 else -1.0
+            self.sweep.begin(frame.time, frame.head.yaw)
         return wanted
-
-    def _scan_head(self, frame: SensorFrame) -> HeadRequest:
-        """Triangle sweep: from ``side * scan_yaw`` to the other side in ``scan_duration``, and back."""
-        p = self.scan_params
-        u = max(0.0, frame.time - self._scan_start) / p.scan_duration
-        leg = math.floor(u)
-        frac = u - leg
-        pos = frac if leg % 2 == 0 else 1.0 - frac
-        yaw = self._scan_side * p.scan_yaw * (1.0 - 2.0 * pos)
-        return HeadRequest(yaw=yaw, pitch=p.scan_pitch, speed=p.scan_speed)

@@ -20,7 +20,7 @@ supporter  PLAYING: a spot behind and beside the ball
 wait       PLAYING during the opponent's kickoff or set play: keep away from the ball
 =========  ===================================================================================
 
-The head runs :class:`~cognition.behaviors.skills.HeadControl` (ball, active gaze, scans).
+The head runs :class:`~cognition.behaviors.head_control.HeadControl` (ball, active gaze, scans).
 With cognition beliefs the robot sends team messages (pose, ball, role), spreading the team's
 budget over the game (:func:`message_due`).
 """
