@@ -65,13 +65,13 @@ import numpy as np
 from cognition.brain import Brain, BrainContext
 from cognition.camera import CameraImage, CameraRig
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_colour_scheme, make_field
-from cognition.gamestate import GameControlData, GameStateId, Penalty
+from cognition.gamestate import GameControlData, GameStateId
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
 from cognition.representations import MotionRequest, RobotPose, SensorFrame
 from cognition.worldmodel import OBSTACLE_MODELS
-from teamsim.brains import BrainFactory, LocalizationErrors, LocalizationSummary, default_brains
+from teamsim.brains import BrainFactory, LocalizationErrors, default_brains
 from teamsim.brains import oracle_brains as oracle_brains  # re-exported
 from teamsim.channel import ChannelParams, TeamChannel
 from teamsim.events import (
@@ -91,6 +91,7 @@ from teamsim.percepts import PerceptSynthesizer, Scene
 from teamsim.placement import world_to_team
 from teamsim.referee import Referee, RefereeParams
 from teamsim.state import WorldSnapshot
+from teamsim.summary import MatchSummary as MatchSummary  # re-exported
 from teamsim.world import PhysicsParams, World
 
 MAX_PLAYERS_PER_TEAM = 7
@@ -171,117 +172,6 @@ class MatchConfig:
         if "events" in data:
             raise ValueError("MatchConfig.from_mapping: give scripted events in code, not in the mapping")
         return from_mapping(cls, data)
-
-
-@dataclass
-class MatchSummary:
-    """The outcome of a match, as printed by ``teamsim match``."""
-
-    seed: int
-    players_per_team: int
-    field: str
-    score: tuple[int, int]
-    goals: list[tuple[float, int, int]]
-    """(time s, team index, half) per goal."""
-    kickoffs: list[tuple[float, int]]
-    penalties: list[tuple[float, int, int, int]]
-    """(time s, team index, player number, penalty code)."""
-    returns: list[tuple[float, int, int]]
-    half_time: float | None
-    side_switch: bool
-    set_plays: int
-    placements: int
-    messages_sent: tuple[int, int]
-    percepts_per_frame: float
-    """Mean number of percepts per robot and cognition frame (0 without a camera model)."""
-    images: int
-    """Camera images delivered to brains (0 unless ``observation`` is ``images``)."""
-    sim_seconds: float
-    wall_seconds: float
-    physics_steps: int
-    localization: LocalizationSummary | None = None
-    """Pose-estimate errors of the localizing brains (``None`` if no brain reports a pose)."""
-
-    @property
-    def real_time_factor(self) -> float:
-        """Simulated seconds per wall-clock second."""
-        return self.sim_seconds / self.wall_seconds if self.wall_seconds > 0 else math.inf
-
-    def penalties_by_code(self) -> dict[str, int]:
-        """Number of penalties per SPL penalty name."""
-        out: dict[str, int] = {}
-        for _, _, _, code in self.penalties:
-            name = Penalty(code).name
-            out[name] = out.get(name, 0) + 1
-        return dict(sorted(out.items()))
-
-    def deterministic_dict(self) -> dict[str, Any]:
-        """Everything except wall-clock figures (equal for equal seeds and configs)."""
-        return {
-            "seed": self.seed,
-            "players_per_team": self.players_per_team,
-            "field": self.field,
-            "score": list(self.score),
-            "goals": [list(g) for g in self.goals],
-            "kickoffs": [list(k) for k in self.kickoffs],
-            "penalties": [list(p) for p in self.penalties],
-            "returns": [list(r) for r in self.returns],
-            "half_time": self.half_time,
-            "side_switch": self.side_switch,
-            "set_plays": self.set_plays,
-            "placements": self.placements,
-            "messages_sent": list(self.messages_sent),
-            "percepts_per_frame": self.percepts_per_frame,
-            "images": self.images,
-            "sim_seconds": self.sim_seconds,
-            "physics_steps": self.physics_steps,
-            "localization": self.localization.to_dict() if self.localization is not None else None,
-        }
-
-    def to_dict(self) -> dict[str, Any]:
-        """All figures, including wall-clock time and the real-time factor."""
-        d = self.deterministic_dict()
-        d["wall_seconds"] = self.wall_seconds
-        d["real_time_factor"] = self.real_time_factor
-        d["penalties_by_code"] = self.penalties_by_code()
-        return d
-
-    def format(self, team_names: tuple[str, str] = ("Home", "Away")) -> str:
-        """Human-readable report."""
-        lines = [
-            f"teamsim match  seed={self.seed}  {self.players_per_team} v {self.players_per_team}  field={self.field}",
-            f"final score    {team_names[0]} {self.score[0]} : {self.score[1]} {team_names[1]}",
-            "goals:",
-        ]
-        for t, team, half in self.goals:
-            lines.append(f"  {_clock(t)}  {team_names[team]:<5} (half {half})")
-        if not self.goals:
-            lines.append("  none")
-        lines.append(f"kickoffs       {len(self.kickoffs)}")
-        if self.half_time is not None:
-            lines.append(f"half time      at {_clock(self.half_time)}, sides switched: {self.side_switch}")
-        by_code = self.penalties_by_code()
-        lines.append(f"penalties      {len(self.penalties)}" + (f"  {by_code}" if by_code else ""))
-        for t, team, number, code in self.penalties:
-            lines.append(f"  {_clock(t)}  {team_names[team]:<5} #{number}  {Penalty(code).name}")
-        lines.append(f"returns        {len(self.returns)}")
-        lines.append(f"set plays      {self.set_plays}, manual placements {self.placements}")
-        lines.append(f"team messages  {self.messages_sent[0]} / {self.messages_sent[1]}")
-        if self.images:
-            lines.append(f"camera images  {self.images}")
-        else:
-            lines.append(f"percepts       {self.percepts_per_frame:.2f} per robot and frame")
-        if self.localization is not None:
-            lines.append(self.localization.format())
-        lines.append(
-            f"simulated      {self.sim_seconds:.1f} s in {self.wall_seconds:.1f} s wall "
-            f"(real-time factor {self.real_time_factor:.1f}x, {self.physics_steps} physics steps)"
-        )
-        return "\n".join(lines)
-
-
-def _clock(t: float) -> str:
-    return f"{int(t // 60):3d}:{t % 60:05.2f}"
 
 
 class Match:
