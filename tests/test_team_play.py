@@ -106,6 +106,19 @@ def test_ball_at_a_corner_is_played_with_a_side_kick_from_inside_the_limits() ->
         assert math.sin(heading + m.kick.direction) * -by > 0.0  # along the goal line, toward the goal
 
 
+def test_walks_never_lead_further_out_at_the_field_limits() -> None:
+    sk = Skills(context(3))
+    lim_x = FIELD.half_length + sk.params.outside_allowance
+    for th in (0.0, 0.7, -2.0, math.pi):
+        b = beliefs(3, (lim_x + 0.01, 0.5, th), (4.4, 0.4))
+        for fwd, left in ((0.3, 0.0), (0.0, 0.3), (-0.2, 0.2), (0.2, -0.3)):
+            f2, l2 = sk._stay_inside(b, fwd, left)
+            vx = math.cos(th) * f2 - math.sin(th) * l2  # team frame, along the field
+            vy = math.sin(th) * f2 + math.cos(th) * l2
+            assert vx <= 1e-12  # never further out past the goal line
+            assert vy == pytest.approx(math.sin(th) * fwd + math.cos(th) * left)  # sideways untouched
+
+
 def test_far_striker_walks_to_the_ball_and_keeper_stays_between_ball_and_goal() -> None:
     sk = Skills(context(3))
     m = sk.kick_to_goal(beliefs(3, (-1.0, 0.0, 0.0), (1.0, 0.0)))
