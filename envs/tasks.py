@@ -159,8 +159,13 @@ class _DrillEnv(gymnasium.Env):
     """A one-agent drill (see the module docstring)."""
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array", "human"], "render_fps": 10}
-    agent = ""
-    default_weights: ClassVar[dict[str, float]] = {}
+    drill_class: ClassVar[type[StrikerDrill | KeeperDrill]]
+    default_weights: ClassVar[dict[str, float]] = {
+        "goal": 10.0,
+        "ball_progress": 1.0,
+        "ball_approach": 0.0,
+        "penalty": 1.0,
+    }
 
     def __init__(self, **kwargs: Any):
         for bad in ("players_per_team", "control"):
@@ -172,13 +177,11 @@ class _DrillEnv(gymnasium.Env):
         kwargs.setdefault("render_path", f"{type(self).__name__}.mp4")
         self.config = EnvConfig(players_per_team=2, control="home", **kwargs)
         self.render_mode = self.config.render_mode
-        self.drill = self.make_drill()
+        self.drill = self.drill_class()
+        self.agent = f"home_{self.drill.agent_number}"
         self.core = SoccerCore(self.config, agents_filter=lambda t, n: f"home_{n}" == self.agent, drill=self.drill)
         self.observation_space = observation_space_of(2)
         self.action_space = action_space_of(self.config.action_type)
-
-    def make_drill(self) -> StrikerDrill | KeeperDrill:
-        raise NotImplementedError
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -209,30 +212,13 @@ class _DrillEnv(gymnasium.Env):
 
 
 class StrikerEnv(_DrillEnv):
-    """``teamsim/Striker-v0`` (module table)."""
+    """``teamsim/Striker-v0`` (module table): the drill's weights plus a ball-approach term."""
 
-    agent = "home_2"
-    default_weights: ClassVar[dict[str, float]] = {
-        "goal": 10.0,
-        "ball_progress": 1.0,
-        "ball_approach": 0.5,
-        "penalty": 1.0,
-    }
-
-    def make_drill(self) -> StrikerDrill:
-        return StrikerDrill()
+    drill_class = StrikerDrill
+    default_weights: ClassVar[dict[str, float]] = {**_DrillEnv.default_weights, "ball_approach": 0.5}
 
 
 class KeeperEnv(_DrillEnv):
     """``teamsim/Keeper-v0`` (module table)."""
 
-    agent = "home_1"
-    default_weights: ClassVar[dict[str, float]] = {
-        "goal": 10.0,
-        "ball_progress": 1.0,
-        "ball_approach": 0.0,
-        "penalty": 1.0,
-    }
-
-    def make_drill(self) -> KeeperDrill:
-        return KeeperDrill()
+    drill_class = KeeperDrill
