@@ -35,11 +35,12 @@ leaves finite, uniform weights, never NaN.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.field import Field
+from cognition.field import Field, FieldDimensions
 from cognition.gamestate import GameStateId
 from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
 from cognition.localization.base import Localizer
@@ -51,18 +52,29 @@ from cognition.localization.sensor import N_O, O, pack_observations, sensor_tabl
 from cognition.representations import RobotPose, SensorFrame
 
 PARTICLE_VARIANTS = ("mcl", "lowvar", "amcl", "reset", "maturing")
-_MODELS: dict[int, tuple[Field, FieldModel]] = {}
+_MODELS: OrderedDict[FieldDimensions, FieldModel] = OrderedDict()
+_MODELS_KEPT = 8
+"""Compiled maps kept (least recently used dropped): one per field geometry in use."""
 _OWN_HALF_STATES = (GameStateId.INITIAL, GameStateId.READY, GameStateId.SET)
 _NO_OBS = np.zeros((0, N_O))
 
 
 def field_model(field: Field) -> FieldModel:
-    """The (cached) compiled map of ``field``."""
-    hit = _MODELS.get(id(field))
-    if hit is None or hit[0] is not field:
-        hit = (field, FieldModel(field))
-        _MODELS[id(field)] = hit
-    return hit[1]
+    """The compiled map of ``field``, shared by every filter on a field of the same geometry.
+
+    The cache is keyed by the field's dimensions (every match builds its own ``Field`` of the
+    same preset) and holds at most :data:`_MODELS_KEPT` maps, so that building matches over
+    and over (environment resets) reuses one map instead of adding one per match.
+    """
+    model = _MODELS.get(field.dims)
+    if model is None:
+        model = FieldModel(field)
+        _MODELS[field.dims] = model
+        while len(_MODELS) > _MODELS_KEPT:
+            _MODELS.popitem(last=False)
+    else:
+        _MODELS.move_to_end(field.dims)
+    return model
 
 
 class ParticleFilter(Localizer):
