@@ -42,7 +42,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.behaviors.actions import ACTION_TYPES, ActionParams, PolicyBrain, check_action
+from cognition.behaviors.actions import ACTION_TYPES, ActionError, ActionParams, PolicyBrain, check_action
 from cognition.brain import Brain
 from cognition.field import make_colour_scheme
 from cognition.gamestate import GameStateId, SetPlay
@@ -297,8 +297,8 @@ class SoccerCore:
 
         Returns observations, rewards, whether the match ended (termination), whether
         ``max_cycles`` was reached (truncation) and infos. Every action is checked before any
-        is applied, so a bad action (:class:`~cognition.behaviors.actions.ActionError`)
-        changes nothing.
+        is applied, so a bad action (:class:`~cognition.behaviors.actions.ActionError`, naming
+        every agent whose action was refused and why) changes nothing.
         """
         m = self.match
         if m is None:
@@ -309,7 +309,15 @@ class SoccerCore:
         missing = [a for a in agents if a not in actions]
         if missing:
             raise ValueError(f"no action for live agents {missing}")
-        checked = {a: check_action(actions[a], self.config.action_type) for a in agents}
+        checked: dict[str, NDArray[np.float64] | int] = {}
+        refused: list[str] = []
+        for a in agents:
+            try:
+                checked[a] = check_action(actions[a], self.config.action_type)
+            except ActionError as e:
+                refused.append(f"{a}: {e}")
+        if refused:
+            raise ActionError("bad action from " + "; ".join(refused))
         for a, act in checked.items():
             m.command(self._index[a], self.policies[a].act(act))
         for _ in range(self.config.frames_per_decision):

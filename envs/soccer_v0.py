@@ -16,6 +16,12 @@ cognition stack on synthesized camera percepts (``percepts``) or the oracle prov
 ``decision_hz``; between decisions a continuous action is held and a macro-action keeps
 running on fresh beliefs. Machinery: :mod:`envs.core`.
 
+Bad actions: the parallel ``step`` checks every action before it applies any and raises
+:class:`~cognition.behaviors.actions.ActionError` naming each agent whose action was refused;
+nothing changes. The AEC ``step`` checks an action at its sender's own turn and raises there,
+naming that agent, without storing it: the same agent may then act validly and the cycle goes
+on. A finished agent's AEC step takes ``None``; anything else is a ``ValueError``.
+
 | | |
 |---|---|
 | Actions | continuous or discrete (``action_type``) |
@@ -23,6 +29,7 @@ running on fresh beliefs. Machinery: :mod:`envs.core`.
 | Agents | ``home_1`` ... ``home_N`` and/or ``away_1`` ... ``away_N`` (``_1`` is the goalkeeper) |
 | Action space | continuous: ``Box(-1, 1, (7,), float32)``: forward, sideways, turn, kick (> 0 kicks with that strength), kick direction, head yaw, head pitch; values outside [-1, 1] are clipped, NaN/inf or a wrong shape raises ``ActionError`` and changes nothing. discrete: ``Discrete(7)``: stand, go_to_ball, kick_to_goal, pass, defend, support, scan (:mod:`cognition.behaviors.actions`) |
 | Observation space | ``Box(-1, 1, (41 + 5 (N - 1) + 15,), float32)``: own pose estimate and its uncertainty, the ball model (relative position, velocity, level, age), team ball, goal directions and the goal model, game state and clocks, own penalty, teammates (by number) and the 5 nearest obstacles (:mod:`cognition.behaviors.observation`) |
+| State space | ``Box(-1, 1, (A (41 + 5 (N - 1) + 15),), float32)``: ``state()`` is the observations of all A agents (``possible_agents``, in that order) side by side, for centralised critics |
 | Rewards | weighted terms ``goal``, ``ball_progress``, ``ball_approach``, ``penalty`` (:mod:`envs.core`); per-term values in ``infos[agent]["reward_terms"]`` |
 | Episode end | termination when the match is over (two halves of ``half_seconds``); truncation after ``max_cycles`` decisions |
 
@@ -60,13 +67,14 @@ import gymnasium
 import numpy as np
 from numpy.typing import NDArray
 from pettingzoo import ParallelEnv
-from pettingzoo.utils import parallel_to_aec, wrappers
+from pettingzoo.utils import wrappers
+from pettingzoo.utils.conversions import parallel_to_aec_wrapper
 
-from cognition.behaviors.actions import CONTINUOUS_SIZE, MACROS
+from cognition.behaviors.actions import CONTINUOUS_SIZE, MACROS, ActionError, check_action
 from cognition.behaviors.observation import observation_size
 from envs.core import EnvConfig, SoccerCore
 
-__all__ = ["SoccerParallelEnv", "env", "parallel_env", "raw_env"]
+__all__ = ["SoccerAECEnv", "SoccerParallelEnv", "env", "parallel_env", "raw_env"]
 
 
 def action_space_of(action_type: str) -> gymnasium.spaces.Space:
@@ -100,6 +108,10 @@ class SoccerParallelEnv(ParallelEnv):
         obs_space = observation_space_of(self.config.players_per_team)
         act_space = action_space_of(self.config.action_type)
         self._observation_spaces = {a: obs_space for a in self.possible_agents}
+        self.state_space = gymnasium.spaces.Box(
+            -1.0, 1.0, (len(self.possible_agents) * obs_space.shape[0],), dtype=np.float32
+        )
+        """Space of :meth:`state`: every agent's observation, in ``possible_agents`` order."""
         self._action_spaces = {a: act_space for a in self.possible_agents}
         self._seeds: np.random.Generator | None = None
 
@@ -151,8 +163,37 @@ class SoccerParallelEnv(ParallelEnv):
         self.core.close()
 
     def state(self) -> NDArray[np.float32]:
-        """All agents' observations side by side (a global state for centralised critics)."""
+        """All agents' observations side by side (a global state for centralised critics; ``state_space``)."""
+        if not self.core.policies:
+            raise RuntimeError("state() before reset(): there is no match yet")
         return np.concatenate([self.core.policies[a].observation() for a in self.possible_agents])
+
+
+class SoccerAECEnv(parallel_to_aec_wrapper):
+    """The AEC API of :class:`SoccerParallelEnv`: PettingZoo's converter, with each action checked
+    at its sender's own ``step`` (module docstring) instead of at the last agent's, where the
+    converter would run the parallel step with the bad action stored and fail at every later
+    step until ``reset``."""
+
+    env: SoccerParallelEnv
+
+    def step(self, action: Any) -> None:
+        """Store the selected agent's action (one parallel step after the last live agent).
+
+        Raises :class:`~cognition.behaviors.actions.ActionError` naming the agent for an action
+        that cannot be carried out, and ``ValueError`` for an action other than ``None`` from an
+        agent that is done; in both cases nothing is stored and the same agent is still selected.
+        """
+        agent = self.agent_selection
+        if self.terminations[agent] or self.truncations[agent]:
+            if action is not None:
+                raise ValueError(f"{agent} is done (terminated or truncated): its step takes None, got {action!r}")
+        else:
+            try:
+                check_action(action, self.env.config.action_type)
+            except ActionError as e:
+                raise ActionError(f"bad action from {agent}: {e}") from e
+        super().step(action)
 
 
 def parallel_env(**kwargs: Any) -> SoccerParallelEnv:
@@ -160,9 +201,9 @@ def parallel_env(**kwargs: Any) -> SoccerParallelEnv:
     return SoccerParallelEnv(**kwargs)
 
 
-def raw_env(**kwargs: Any) -> Any:
+def raw_env(**kwargs: Any) -> SoccerAECEnv:
     """The AEC environment without wrappers."""
-    return parallel_to_aec(parallel_env(**kwargs))
+    return SoccerAECEnv(parallel_env(**kwargs))
 
 
 def env(**kwargs: Any) -> Any:

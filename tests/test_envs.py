@@ -9,7 +9,14 @@ import gymnasium
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
-from pettingzoo.test import api_test, max_cycles_test, parallel_api_test, parallel_seed_test, render_test
+from pettingzoo.test import (
+    api_test,
+    max_cycles_test,
+    parallel_api_test,
+    parallel_seed_test,
+    render_test,
+    state_test,
+)
 
 import envs  # noqa: F401  (registers the Gymnasium ids)
 from cognition.behaviors.actions import MACROS, ActionError
@@ -70,8 +77,9 @@ def test_bad_continuous_actions_are_rejected_without_changing_the_env(bad: objec
     twin.reset(seed=5)
     good = {a: np.full(7, 0.3, dtype=np.float32) for a in env.agents}
     before = env.core.match.snapshot()
-    with pytest.raises(ActionError):
+    with pytest.raises(ActionError, match=r"home_2") as raised:
         env.step({**good, "home_2": bad})
+    assert "home_1" not in str(raised.value)  # only the sender is named
     after = env.core.match.snapshot()
     assert after.time == before.time and env.core.cycles == 0
     # nothing was applied: the env continues exactly like a twin that never saw the bad action
@@ -79,6 +87,91 @@ def test_bad_continuous_actions_are_rejected_without_changing_the_env(bad: objec
         o1, r1, *_ = env.step(good)
         o2, r2, *_ = twin.step(good)
         assert all(np.array_equal(o1[a], o2[a]) for a in o1) and r1 == r2
+
+
+def test_parallel_step_names_every_agent_with_a_bad_action() -> None:
+    env = soccer_v0.parallel_env(**SMALL, observation="truth", control="both")
+    env.reset(seed=5)
+    actions = {a: np.zeros(7) for a in env.agents}
+    with pytest.raises(ActionError) as raised:
+        env.step({**actions, "home_1": np.full(7, np.nan), "away_2": np.zeros(3)})
+    message = str(raised.value)
+    assert "home_1" in message and "finite" in message
+    assert "away_2" in message and "shape" in message
+    assert "home_2" not in message and "away_1" not in message
+    assert env.core.cycles == 0
+
+
+def _aec_pair(**kw):
+    kw = {**SMALL, "observation": "truth", "control": "both", **kw}
+    env, twin = soccer_v0.env(**kw), soccer_v0.env(**kw)
+    env.reset(seed=7)
+    twin.reset(seed=7)
+    return env, twin
+
+
+@pytest.mark.parametrize("bad_agent", ["home_1", "away_2"])  # the first agent to act, and the last
+def test_aec_bad_action_is_refused_at_the_senders_step_and_the_env_stays_usable(bad_agent: str) -> None:
+    env, twin = _aec_pair()
+    order = list(env.agents)
+    assert order[0] == "home_1" and order[-1] == "away_2"
+    good = np.full(7, 0.2, dtype=np.float32)
+    for agent in order:
+        assert env.agent_selection == agent
+        if agent == bad_agent:
+            with pytest.raises(ActionError, match=rf"{bad_agent}.*finite"):
+                env.step(np.array([0.0, np.nan, 0, 0, 0, 0, 0]))
+            assert env.agent_selection == agent  # still this agent's turn, nothing stored
+            assert env.unwrapped.core.cycles == 0
+        env.step(good)
+    assert env.unwrapped.core.cycles == 1  # the cycle completed with the valid action
+    for _ in order:
+        twin.step(good)
+    assert twin.unwrapped.core.cycles == 1
+    for agent in order:
+        assert np.array_equal(env.observe(agent), twin.observe(agent))
+    # and it keeps going like the twin that never saw the bad action
+    for _ in range(2 * len(order)):
+        env.step(good)
+        twin.step(good)
+    assert env.unwrapped.core.cycles == twin.unwrapped.core.cycles == 3
+    assert all(np.array_equal(env.observe(a), twin.observe(a)) for a in order)
+
+
+def test_aec_bad_discrete_action_names_the_agent() -> None:
+    env, _ = _aec_pair(action_type="discrete")
+    env.step(1)  # home_1
+    assert env.agent_selection == "home_2"
+    with pytest.raises(ActionError, match=r"home_2.*out of range"):
+        env.step(len(MACROS))
+    env.step(2)
+    assert env.agent_selection == "away_1"
+
+
+def test_aec_action_for_a_finished_agent_must_be_none() -> None:
+    env = soccer_v0.env(**SMALL, observation="truth", max_cycles=1)
+    env.reset(seed=0)
+    for _ in env.possible_agents:
+        env.step(np.zeros(7))
+    agent = env.agent_selection
+    assert env.truncations[agent]
+    with pytest.raises(ValueError, match=rf"{agent} is done.*None"):
+        env.step(np.zeros(7))
+    env.step(None)  # the agent is removed as PettingZoo expects
+    assert agent not in env.agents
+
+
+@pytest.mark.parametrize("observation", ["truth", "percepts"])
+def test_pettingzoo_state_test_and_state_space(observation: str) -> None:
+    kw = {**SMALL, "observation": observation, "control": "both"}
+    state_test(soccer_v0.env(**kw), soccer_v0.parallel_env(**kw), num_cycles=5)
+    env = soccer_v0.parallel_env(**kw)
+    with pytest.raises(RuntimeError, match="before reset"):
+        env.state()
+    env.reset(seed=1)
+    state = env.state()
+    assert env.state_space.shape == state.shape == (4 * env.observation_space("home_1").shape[0],)
+    assert env.state_space.dtype == state.dtype and env.state_space.contains(state)
 
 
 def test_out_of_range_continuous_actions_are_clipped() -> None:
