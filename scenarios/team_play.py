@@ -17,23 +17,36 @@ percepts  the cognition stack on synthesized percepts (``maturing`` localization
 
 The home team is scripted; the away team is ``random`` (random walkers) or ``scripted`` (the
 same players, same mode). Each finished match is appended to ``OUT/matches.jsonl`` at once; a
-rerun skips the (seed, pairing, mode) already there, so a stopped run resumes. At the end the
-script prints, per pairing and mode, the mean goals for and against, the mean goal difference
-with a 95% confidence interval (t distribution over seeds), the share of matches in which both
-teams scored, and the percepts-minus-truth margin of the goal difference.
+rerun skips the (seed, pairing, mode) already there, so a stopped run resumes. A run killed
+while writing leaves a torn last line: the resume cuts it off the log, says so in one line and
+plays that match again; a damaged line before the last one is corruption, and the script stops
+naming that line (:class:`LogError`) instead of guessing. Matches run in worker processes
+(``--jobs``) that end with the script however it ends, ``kill -9`` included
+(:func:`die_with_parent`). At the end the script prints, per pairing and mode, the mean goals
+for and against, the mean goal difference with a 95% confidence interval (Student's t over
+seeds, ``scipy.stats``), the share of matches in which both teams scored, and the
+percepts-minus-truth margin of the goal difference.
 """
 
 from __future__ import annotations
 
 import argparse
+import ctypes
+import ctypes.util
 import json
 import math
+import multiprocessing
+import os
+import signal
+import sys
+import threading
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy import stats
 
 from cognition.brain import Brain
 from teamsim.brains import random_brains, scripted_brains
@@ -42,7 +55,58 @@ from teamsim.referee import RefereeParams
 
 MODES = ("truth", "percepts")
 PAIRINGS = ("scripted-random", "scripted-scripted")
-_T95 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26, 10: 2.23, 19: 2.09}
+RECORD_KEYS = ("seed", "pairing", "mode", "minutes", "goals_for", "goals_against")
+"""Keys every line of ``matches.jsonl`` must have."""
+_PR_SET_PDEATHSIG = 1
+"""``prctl`` option of Linux: the signal this process gets when its parent dies (``<linux/prctl.h>``)."""
+
+
+class LogError(ValueError):
+    """A results log that cannot be resumed from: a damaged line other than the last."""
+
+
+def _kernel_kills_orphan() -> bool:
+    """Ask Linux to SIGKILL this process when its parent dies; False where that is not available."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        return int(libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)) == 0
+    except (OSError, AttributeError):
+        return False
+
+
+def _watch_parent() -> None:
+    """Start a daemon thread that ends this process as soon as its multiprocessing parent is gone.
+
+    It blocks on the parent's sentinel (a pipe whose other end only the parent holds open, or a
+    process handle on Windows), so it costs nothing while the parent lives and works on every
+    platform.
+    """
+    parent = multiprocessing.parent_process()
+    if parent is None:
+        return
+
+    def wait_then_exit() -> None:
+        parent.join()
+        os._exit(1)
+
+    threading.Thread(target=wait_then_exit, name="parent-watchdog", daemon=True).start()
+
+
+def die_with_parent(parent_pid: int, kernel: bool = True) -> None:
+    """Pool initializer: the worker ends when the script that started it ends, even by ``kill -9``.
+
+    On Linux (``kernel``) the kernel sends the worker SIGKILL when its parent dies
+    (``prctl(PR_SET_PDEATHSIG)``); everywhere a watchdog thread waits for the parent and exits
+    (:func:`_watch_parent`), which also covers other platforms. A parent that died before this
+    ran (the worker was already re-parented) ends the worker at once.
+    """
+    if kernel:
+        _kernel_kills_orphan()
+    _watch_parent()
+    if os.getppid() != parent_pid:
+        os._exit(1)
 
 
 def play(seed: int, pairing: str, mode: str, minutes: float) -> dict[str, Any]:
@@ -71,7 +135,49 @@ def play(seed: int, pairing: str, mode: str, minutes: float) -> dict[str, Any]:
 
 
 def _t95(n: int) -> float:
-    return _T95.get(n - 1, 2.0 if n > 20 else _T95[min(_T95, key=lambda k: abs(k - (n - 1)))])
+    """Two-sided 95% quantile of Student's t with ``n - 1`` degrees of freedom (``n`` >= 2 samples)."""
+    return float(stats.t.ppf(0.975, n - 1))
+
+
+def read_log(log: Path) -> list[dict[str, Any]]:
+    """The match records of ``log`` (none if it does not exist), ready for appending.
+
+    A last line that is not valid JSON was torn by a run killed while writing it: it is cut off
+    the file and reported in one printed line, so that match runs again. A damaged line before
+    the last, or a line that is JSON but not a match record, raises :class:`LogError` naming
+    the line; the file is then left as it is.
+    """
+    if not log.exists():
+        return []
+    data = log.read_bytes()
+    lines = data.splitlines(keepends=True)
+    last = max((i for i, line in enumerate(lines) if line.strip()), default=-1)
+    records: list[dict[str, Any]] = []
+    offset = 0
+    for i, line in enumerate(lines):
+        number = i + 1
+        if line.strip():
+            try:
+                rec = json.loads(line.decode("utf-8"))
+            except (UnicodeDecodeError, json.JSONDecodeError) as e:
+                if i != last:
+                    raise LogError(
+                        f"{log} line {number} is not valid JSON ({e}) but lines follow it: the log is corrupt, "
+                        f"not torn by a stopped run; repair or remove line {number} and run again"
+                    ) from e
+                with log.open("r+b") as f:
+                    f.truncate(offset)
+                print(f"{log}: line {number} was torn by a stopped run; dropped it, that match runs again")
+                return records
+            missing = [k for k in RECORD_KEYS if not isinstance(rec, dict) or k not in rec]
+            if missing:
+                raise LogError(f"{log} line {number} is not a match record: it lacks {missing}; got {line[:80]!r}")
+            records.append(rec)
+        offset += len(line)
+    if data and not data.endswith(b"\n"):  # a whole record whose newline was not written yet
+        with log.open("ab") as f:
+            f.write(b"\n")
+    return records
 
 
 def summarize(records: Sequence[dict[str, Any]]) -> list[str]:
@@ -124,11 +230,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
         ap.error("--seeds must be >= 1 and --minutes > 0")
     args.out.mkdir(parents=True, exist_ok=True)
     log = args.out / "matches.jsonl"
-    records: list[dict[str, Any]] = []
-    if log.exists():
-        for line in log.read_text().splitlines():
-            if line.strip():
-                records.append(json.loads(line))
+    records = read_log(log)
     done = {(r["seed"], r["pairing"], r["mode"], r["minutes"]) for r in records}
     todo = [
         (s, p, m, args.minutes)
@@ -137,7 +239,8 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
         for s in range(args.seeds)
         if (s, p, m, args.minutes) not in done
     ]
-    with log.open("a") as out, ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+    pool = ProcessPoolExecutor(max_workers=max(1, args.jobs), initializer=die_with_parent, initargs=(os.getpid(),))
+    with log.open("a") as out, pool:
         for rec in pool.map(play, *zip(*todo, strict=True)) if todo else ():
             out.write(json.dumps(rec) + "\n")
             out.flush()
@@ -149,4 +252,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except LogError as error:
+        sys.exit(f"team_play: {error}")
