@@ -20,6 +20,7 @@ bench:
 	python -m benchmarks.bench_localization --json out/bench_localization.json
 	python -m benchmarks.bench_worldmodel --json out/bench_worldmodel.json
 	python -m benchmarks.bench_envs --json out/bench_envs.json
+	python -m benchmarks.soak --json out/soak.json
 
 # torch first, pinned: an unpinned torch pulls a multi-GB CUDA build
 train-install:
