@@ -4,7 +4,8 @@
 frame) onto a pre-rendered, cached image of the field and returns an RGB ``uint8`` array,
 optionally with robots' localization beliefs (:class:`Belief`: particles as small dots and the
 estimated pose as an outlined robot, in the team colour);
-:class:`VideoWriter` turns a sequence of such frames into an MP4 or an animated GIF.
+:class:`VideoWriter` streams such frames to an MP4 or an animated GIF (:mod:`teamsim.video`),
+creating the file at once so that a path that cannot be written fails before a match is run.
 
 The image shows the carpet including the border strip, with a header strip on top for the
 score, game state, clock and simulated time. World x runs to the right, world y **up** on
@@ -26,12 +27,15 @@ VideoWriter.gif_scale  2           GIF frames are shrunk by this integer factor 
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from dataclasses import field as dataclass_field
 from pathlib import Path
 from types import TracebackType
+from typing import BinaryIO
 
 import cv2
 import numpy as np
@@ -40,6 +44,7 @@ from numpy.typing import NDArray
 from cognition.field import ColourScheme, Field
 from cognition.gamestate import GameControlData, GameStateId
 from teamsim.state import RobotTruth, WorldSnapshot
+from teamsim.video import GifStream, VideoError
 
 HEADER_HEIGHT = 40
 """Height of the header text strip (px)."""
@@ -395,13 +400,19 @@ class TopDownRenderer:
 
 
 class VideoWriter:
-    """Writes RGB frames to ``.mp4`` (cv2, ``mp4v`` codec) or ``.gif`` (Pillow).
+    """Writes RGB frames to ``.mp4`` (cv2, ``mp4v`` codec) or ``.gif`` (:class:`~teamsim.video.GifStream`).
 
-    MP4 frames are streamed to disk as they come. GIF frames are collected and saved on
-    :meth:`close`, each shown ``1000 / fps`` ms (rounded), looping forever, shrunk by the
-    integer factor ``gif_scale`` (default 2, 1 keeps full size) to keep files small. Pillow
-    merges identical consecutive GIF frames into one longer frame. A writer closed without
-    any frame creates no file. Missing parent directories are created.
+    The constructor checks at once that the file can be created (it creates missing parent
+    directories and opens the file for appending, which leaves an existing file untouched), so
+    a path that cannot be written fails before any frame is computed, with a
+    :class:`~teamsim.video.VideoError` (an ``OSError``) naming the path and the reason. The
+    first frame truncates the file; frames are streamed to disk as they come, so memory stays
+    bounded by a few frames whatever the length of the video. GIF frames are shrunk by the
+    integer factor ``gif_scale`` (default 2, 1 keeps full size) to keep files small, loop forever
+    and last ``1 / fps`` s each (whole centiseconds, without cumulative drift); identical
+    consecutive GIF frames are merged into one longer frame. A writer closed without any frame
+    leaves no new file. After a failed :meth:`write` the file is left incomplete and :meth:`close`
+    only releases it.
     """
 
     SUFFIXES = (".mp4", ".gif")
@@ -419,58 +430,117 @@ class VideoWriter:
         self.gif_scale = int(gif_scale)
         self._gif = suffix == ".gif"
         self._shape: tuple[int, ...] | None = None
-        self._frames: list[np.ndarray] = []
         self._cv: cv2.VideoWriter | None = None
+        self._file: BinaryIO | None = None
+        self._stream: GifStream | None = None
+        self._opened = False  # the file was opened for writing (truncated)
         self._closed = False
+        self._failed = False
         self.frame_count = 0
         """Frames written so far."""
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._check_writable()
+
+    def _check_writable(self) -> None:
+        """Create the file (or open an existing one for appending) and close it again."""
+        existed = os.path.lexists(self.path)
+        where = f"cannot create video file {str(self.path)!r}"
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        except FileExistsError as exc:  # the parent, or one above it, is a file
+            raise VideoError(f"{where}: {str(exc.filename)!r} is not a directory") from exc
+        except OSError as exc:
+            raise VideoError(f"{where}: cannot create directory {str(exc.filename)!r}: {exc.strerror or exc}") from exc
+        try:
+            with self.path.open("ab"):
+                pass
+        except OSError as exc:
+            raise VideoError(f"{where}: {exc.strerror or exc}") from exc
+        if not existed:
+            with contextlib.suppress(OSError):  # created again by the first frame
+                self.path.unlink()
 
     def write(self, frame_rgb: np.ndarray) -> None:
-        """Append one RGB ``uint8`` frame (H x W x 3), same shape as the first frame."""
+        """Append one RGB ``uint8`` frame (H x W x 3), same shape as the first frame.
+
+        Raises ``ValueError`` for a bad frame (nothing written) and :class:`~teamsim.video.VideoError`
+        when the file cannot be written (the writer is then unusable; :meth:`close` releases it).
+        """
         if self._closed:
             raise RuntimeError(f"VideoWriter for {self.path} is closed")
+        if self._failed:
+            raise VideoError(f"video {str(self.path)!r} failed earlier and takes no more frames")
         frame = np.asarray(frame_rgb)
         if frame.dtype != np.uint8 or frame.ndim != 3 or frame.shape[2] != 3:
             raise ValueError(f"frame must be uint8 H x W x 3, got {frame.dtype} {frame.shape}")
-        if self._shape is None:
-            self._shape = frame.shape
-            if not self._gif:
-                h, w = frame.shape[:2]
-                fourcc = cv2.VideoWriter_fourcc(*"mp4v")
-                self._cv = cv2.VideoWriter(str(self.path), fourcc, self.fps, (w, h))
-                if not self._cv.isOpened():
-                    self._cv = None
-                    raise RuntimeError(f"cv2 could not open an mp4v video writer for {self.path}")
-        elif frame.shape != self._shape:
-            raise ValueError(f"frame shape {frame.shape} differs from the first {self._shape}")
-        if self._gif:
-            k = self.gif_scale
-            if k > 1:
-                size = (max(1, frame.shape[1] // k), max(1, frame.shape[0] // k))
-                frame = cv2.resize(frame, size, interpolation=cv2.INTER_AREA)
-            self._frames.append(frame.copy())
-        else:
-            assert self._cv is not None
-            self._cv.write(cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
+        shape = frame.shape
+        if self._shape is not None and shape != self._shape:
+            raise ValueError(f"frame shape {shape} differs from the first {self._shape}")
+        try:
+            if self._gif:
+                k = self.gif_scale
+                if k > 1:
+                    size = (max(1, frame.shape[1] // k), max(1, frame.shape[0] // k))
+                    frame = cv2.resize(frame, size, interpolation=cv2.INTER_AREA)
+                if self._stream is None:
+                    self._opened = True
+                    self._file = self.path.open("wb")
+                    self._stream = GifStream(self._file, self.fps)
+                self._stream.add(frame)
+            else:
+                if self._cv is None:
+                    self._open_mp4(frame.shape[1], frame.shape[0])
+                assert self._cv is not None
+                self._cv.write(cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
+        except OSError as exc:
+            self._failed = True
+            if isinstance(exc, VideoError):
+                raise
+            reason = exc.strerror or str(exc)
+            raise VideoError(f"writing video {str(self.path)!r} failed at frame {self.frame_count}: {reason}") from exc
+        self._shape = shape
         self.frame_count += 1
 
+    def _open_mp4(self, width: int, height: int) -> None:
+        self._opened = True
+        fourcc = cv2.VideoWriter_fourcc(*"mp4v")
+        self._cv = cv2.VideoWriter(str(self.path), fourcc, self.fps, (width, height))
+        if not self._cv.isOpened():
+            self._cv = None
+            raise VideoError(f"cv2 could not open an mp4v video writer ({width} x {height} px) for {str(self.path)!r}")
+
     def close(self) -> None:
-        """Finish the file; further writes raise ``RuntimeError``. Safe to call twice."""
+        """Finish the file; further writes raise ``RuntimeError``. Safe to call twice.
+
+        Raises :class:`~teamsim.video.VideoError` if the end of the file cannot be written; the
+        file is released in any case.
+        """
         if self._closed:
             return
         self._closed = True
+        error: VideoError | None = None
+        try:
+            if self._stream is not None and not self._failed:
+                self._stream.finish()
+        except OSError as exc:
+            error = VideoError(f"finishing video {str(self.path)!r} failed: {exc.strerror or exc}")
         if self._cv is not None:
             self._cv.release()
             self._cv = None
-        if self._gif and self._frames:
-            from PIL import Image
-
-            images = [Image.fromarray(f) for f in self._frames]
-            duration = max(1, round(1000.0 / self.fps))
-            opts = {"save_all": True, "append_images": images[1:], "loop": 0}
-            images[0].save(self.path, duration=duration, **opts)
-            self._frames.clear()
+            if not self._failed and not (self.path.is_file() and self.path.stat().st_size > 0):
+                error = VideoError(f"cv2 wrote nothing to {str(self.path)!r} ({self.frame_count} frames given)")
+        if self._file is not None:
+            try:
+                self._file.close()
+            except OSError as exc:  # flushing the buffer; after a failed write its error was raised already
+                if not self._failed:
+                    error = error or VideoError(f"finishing video {str(self.path)!r} failed: {exc.strerror or exc}")
+            self._file = None
+        self._stream = None
+        if self.frame_count == 0 and self._opened:
+            with contextlib.suppress(OSError):  # an empty file left behind is harmless
+                self.path.unlink()
+        if error is not None:
+            raise error
 
     def __enter__(self) -> VideoWriter:
         return self

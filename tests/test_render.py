@@ -1,19 +1,26 @@
-"""Tests of the top-down renderer and the video writer (teamsim.render)."""
+"""Tests of the top-down renderer (teamsim.render) and the streaming video writer (teamsim.render, teamsim.video)."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import tracemalloc
+from pathlib import Path
 
 import cv2
+import hypothesis.extra.numpy as hnp
+import hypothesis.strategies as st
 import numpy as np
 import pytest
+from hypothesis import given, settings
 from PIL import Image
 
+import teamsim.render as render_module
 from cognition.field import make_colour_scheme, make_field
 from cognition.gamestate import GameControlData, GameStateId, TeamInfo
 from teamsim.render import HEADER_HEIGHT, Overlay, TopDownRenderer, VideoWriter
 from teamsim.state import RobotTruth, WorldSnapshot
+from teamsim.video import VideoError
 
 PPM = 50.0
 RED, BLUE = (255, 0, 0), (0, 0, 255)
@@ -229,3 +236,185 @@ def test_video_writer_errors(renderer, tmp_path):
         vw.close()
         with pytest.raises(RuntimeError, match="closed"):
             vw.write(renderer.render(snap()))
+
+
+# -- streaming GIF: bounded memory, faithful frames and timing, paths checked at once ------------
+
+
+def gif_frames(path) -> list[tuple[np.ndarray, int]]:
+    """Every frame of a GIF file as (RGB array, duration in ms), decoded by Pillow."""
+    out = []
+    with Image.open(path) as im:
+        for k in range(im.n_frames):
+            im.seek(k)
+            out.append((np.asarray(im.convert("RGB")), im.info["duration"]))
+    return out
+
+
+def test_gif_writer_memory_is_bounded_by_a_few_frames(tmp_path):
+    h, w = 480, 640
+    rows, cols = np.mgrid[0:h, 0:w]
+    base = np.stack([cols * 255 // w, rows * 255 // h, np.full_like(cols, 90)], axis=2).astype(np.uint8)
+    del rows, cols
+    path = tmp_path / "long.gif"
+    size_halfway = 0
+    tracemalloc.start()
+    try:
+        vw = VideoWriter(path, fps=10.0)
+        for i in range(400):
+            frame = base.copy()
+            r, c = (7 * i) % (h - 60), (11 * i) % (w - 80)
+            frame[r : r + 60, c : c + 80] = (255 - 3 * (i % 50), 40, 200)
+            vw.write(frame)
+            del frame
+            if i == 199:
+                size_halfway = path.stat().st_size if path.exists() else 0
+        _, peak = tracemalloc.get_traced_memory()
+        vw.close()
+    finally:
+        tracemalloc.stop()
+    # a writer that kept its 400 half-size frames would hold 100 input frames' worth of bytes
+    assert peak < 4 * base.nbytes, f"peak {peak / base.nbytes:.1f} frames of {base.nbytes} bytes"
+    assert size_halfway > 0.3 * path.stat().st_size  # the first half was on disk before the end
+    with Image.open(path) as im:
+        assert im.n_frames == 400 and im.size == (w // 2, h // 2)
+
+
+def test_gif_decodes_to_the_frames_with_their_timing(renderer, tmp_path):
+    path = tmp_path / "match.gif"
+    fps = 15.0
+    shots = frames(renderer, 7)
+    with VideoWriter(path, fps=fps) as vw:
+        for f in shots:
+            vw.write(f)
+    decoded = gif_frames(path)
+    assert len(decoded) == len(shots)
+    size = (renderer.width // 2, renderer.height // 2)
+    with Image.open(path) as im:
+        assert im.size == size and im.info["loop"] == 0
+    for (got, _), sent in zip(decoded, shots, strict=True):
+        want = cv2.resize(sent, size, interpolation=cv2.INTER_AREA).astype(int)
+        err = np.abs(got.astype(int) - want)
+        assert err.mean() < 0.5 and np.percentile(err, 99) <= 8, (err.mean(), np.percentile(err, 99))
+    # 1/15 s is not a whole number of centiseconds: 6 and 7 cs alternate so that frame i starts
+    # at round(i * 100 / 15) cs and seven frames last 47 cs, not 7 * 6 or 7 * 7
+    durations = [d for _, d in decoded]
+    assert set(durations) == {60, 70}
+    assert np.cumsum(durations).tolist() == [10 * round((i + 1) * 100 / fps) for i in range(7)]
+
+
+def test_gif_identical_frames_lengthen_the_previous_frame(renderer, tmp_path):
+    a, b = frames(renderer, 2)
+    path = tmp_path / "still.gif"
+    with VideoWriter(path, fps=10.0) as vw:
+        for f in (a, a, a, b, b, a):
+            vw.write(f)
+    assert vw.frame_count == 6
+    decoded = gif_frames(path)
+    assert [d for _, d in decoded] == [300, 200, 100]
+    # the last frame returns to the first picture (each block has its own palette: near, not equal)
+    back = np.abs(decoded[2][0].astype(int) - decoded[0][0].astype(int))
+    assert back.mean() < 0.5
+    assert np.abs(decoded[1][0].astype(int) - decoded[0][0].astype(int)).mean() > 2 * back.mean()
+
+
+few_colour_clips = st.tuples(st.integers(1, 12), st.integers(1, 12), st.integers(1, 6)).flatmap(
+    lambda hwn: st.lists(
+        hnp.arrays(np.uint8, (hwn[0], hwn[1]), elements=st.integers(0, 5)), min_size=hwn[2], max_size=hwn[2]
+    )
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(clip=few_colour_clips, repeats=st.lists(st.booleans(), min_size=6, max_size=6), fps=st.floats(0.5, 100.0))
+def test_gif_of_few_colours_decodes_exactly(tmp_path_factory, clip, repeats, fps):
+    palette = np.array([(0, 0, 0), (255, 255, 255), (200, 30, 30), (30, 160, 60), (20, 40, 220), (250, 200, 0)])
+    sent: list[np.ndarray] = []
+    for k, indices in enumerate(clip):
+        sent.append(sent[-1] if repeats[k] and sent else palette[indices].astype(np.uint8))
+    path = tmp_path_factory.mktemp("gif") / "clip.gif"
+    with VideoWriter(path, fps=fps, gif_scale=1) as vw:
+        for f in sent:
+            vw.write(f)
+    starts = [k for k in range(len(sent)) if k == 0 or not np.array_equal(sent[k], sent[k - 1])]
+    decoded = gif_frames(path)
+    assert len(decoded) == len(starts)
+    ends = [*starts[1:], len(sent)]
+    for (got, duration), first, end in zip(decoded, starts, ends, strict=True):
+        assert np.array_equal(got, sent[first])  # <= 256 colours: the palette is exact
+        assert duration == 10 * (round(end * 100 / fps) - round(first * 100 / fps))
+
+
+def test_gif_delay_limits(renderer, tmp_path):
+    a, b = frames(renderer, 2)
+    slow = tmp_path / "slow.gif"
+    with VideoWriter(slow, fps=0.001) as vw:  # 1000 s a frame: beyond the 655.35 s a GIF delay holds
+        vw.write(a)
+        vw.write(b)
+    durations = [d for _, d in gif_frames(slow)]
+    assert sum(durations) == 2_000_000 and max(durations) == 655_350
+    fast = tmp_path / "fast.gif"
+    with VideoWriter(fast, fps=400.0) as vw:  # a delay is at least one centisecond
+        for f in (a, b, a, b):
+            vw.write(f)
+    assert [d for _, d in gif_frames(fast)] == [10, 10, 10, 10]
+
+
+@pytest.mark.parametrize("suffix", [".gif", ".mp4"])
+def test_unwritable_video_path_fails_in_the_constructor(tmp_path, suffix):
+    blocker = tmp_path / "notes.txt"
+    blocker.write_text("a file, not a directory")
+    bad = {
+        blocker / f"clip{suffix}": "not a directory",
+        blocker / "deeper" / f"clip{suffix}": "Not a directory",
+        tmp_path / f"folder{suffix}": "Is a directory",
+    }
+    (tmp_path / f"folder{suffix}").mkdir()
+    for path, reason in bad.items():
+        with pytest.raises(VideoError) as info:
+            VideoWriter(path)
+        assert isinstance(info.value, OSError)
+        assert str(path) in str(info.value) and reason in str(info.value)
+
+
+@pytest.mark.parametrize("suffix", [".gif", ".mp4"])
+def test_writer_without_frames_leaves_no_file_and_spares_an_existing_one(tmp_path, suffix):
+    fresh = tmp_path / "new" / f"clip{suffix}"
+    VideoWriter(fresh).close()
+    assert not fresh.exists() and fresh.parent.is_dir()
+    old = tmp_path / f"old{suffix}"
+    old.write_bytes(b"an earlier video")
+    VideoWriter(old).close()
+    assert old.read_bytes() == b"an earlier video"
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full to simulate a full disk")
+def test_gif_on_a_full_disk_raises_video_error_naming_the_file(renderer, tmp_path):
+    path = tmp_path / "full.gif"
+    path.symlink_to("/dev/full")
+    vw = VideoWriter(path)
+    with pytest.raises(VideoError, match=r"full\.gif.*No space left on device"):
+        for f in frames(renderer, 20):
+            vw.write(f)
+    with pytest.raises(VideoError, match="failed earlier"):
+        vw.write(frames(renderer, 1)[0])
+    vw.close()  # releases the file without raising again
+    with pytest.raises(RuntimeError, match="closed"):
+        vw.write(frames(renderer, 1)[0])
+
+
+def test_mp4_encoder_that_cannot_open_is_a_video_error(renderer, tmp_path, monkeypatch):
+    class ClosedEncoder:
+        def __init__(self, *args: object) -> None:
+            pass
+
+        def isOpened(self) -> bool:
+            return False
+
+    monkeypatch.setattr(render_module.cv2, "VideoWriter", ClosedEncoder)
+    path = tmp_path / "clip.mp4"
+    vw = VideoWriter(path)
+    with pytest.raises(VideoError, match=r"mp4v.*clip\.mp4"):
+        vw.write(frames(renderer, 1)[0])
+    vw.close()
+    assert not path.exists()
