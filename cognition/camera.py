@@ -27,6 +27,24 @@ offset (x, z)      0.0587, 0.0636 m           0.0507, 0.0177 m
 height at pitch 0  0.504 m                    0.458 m  (neck height 0.44 m)
 =================  =========================  =========================================
 
+Parameters of :class:`CameraSpec` (one camera) and :class:`CameraRig` (the head):
+
+=================  ==============  ===============  ===================================================
+parameter          NAO default     range            meaning
+=================  ==============  ===============  ===================================================
+tilt               see above       [-pi/2, pi/2]    downward tilt of the optical axis (rad)
+hfov               54.7 deg        (0, 2.82743)     horizontal opening angle (rad; below 0.9 pi)
+vfov               42.5 deg        (0, 2.82743)     vertical opening angle (rad; below 0.9 pi)
+width              320             [8, 2048]        image width (pixels)
+height             240             [8, 2048]        image height (pixels)
+offset_x           see above       [-1, 1]          forward offset of the optical centre (m, head frame)
+offset_z           see above       [-1, 1]          upward offset of the optical centre (m, head frame)
+neck_height        0.44            [0.05, 3]        (:class:`CameraRig`) head joints above the ground (m)
+=================  ==============  ===============  ===================================================
+
+Every value is checked against its range when a spec or rig is built
+(:func:`cognition.params.check_ranges`).
+
 The numba functions at the end (``*_nb``) are the same geometry for compiled hot loops.
 """
 
@@ -34,11 +52,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numba as nb
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from cognition.params import Range, Ranges, check_ranges
 
 CameraName = Literal["upper", "lower"]
 CAMERA_NAMES: tuple[CameraName, ...] = ("upper", "lower")
@@ -46,6 +66,9 @@ CAMERA_NAMES: tuple[CameraName, ...] = ("upper", "lower")
 
 MIN_IMAGE_SIZE = 8
 """Smallest accepted image width or height (pixels)."""
+MAX_IMAGE_SIZE = 2048
+"""Largest accepted image width or height (pixels): a 2048 x 2048 RGB image is 12 MB, per
+robot and camera frame."""
 
 
 @dataclass(frozen=True)
@@ -67,19 +90,18 @@ class CameraSpec:
     offset_z: float = 0.0
     """Upward offset of the optical centre from the head pitch axis (m, head frame)."""
 
+    RANGES: ClassVar[Ranges] = {
+        "tilt": Range(-math.pi / 2, math.pi / 2),
+        "hfov": Range(0.0, 0.9 * math.pi, low_open=True, high_open=True),
+        "vfov": Range(0.0, 0.9 * math.pi, low_open=True, high_open=True),
+        "width": Range(MIN_IMAGE_SIZE, MAX_IMAGE_SIZE),
+        "height": Range(MIN_IMAGE_SIZE, MAX_IMAGE_SIZE),
+        "offset_x": Range(-1.0, 1.0),
+        "offset_z": Range(-1.0, 1.0),
+    }
+
     def __post_init__(self) -> None:
-        for name in ("width", "height"):
-            v = getattr(self, name)
-            if not isinstance(v, int | np.integer) or isinstance(v, bool) or v < MIN_IMAGE_SIZE:
-                raise ValueError(f"CameraSpec.{name} must be an integer >= {MIN_IMAGE_SIZE} pixels, got {v!r}")
-        for name in ("hfov", "vfov"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int | float | np.floating) or not 0.0 < v < math.pi * 0.9:
-                raise ValueError(f"CameraSpec.{name} must be an angle in (0, {math.pi * 0.9:.3f}) rad, got {v!r}")
-        for name in ("tilt", "offset_x", "offset_z"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int | float | np.floating) or not math.isfinite(v):
-                raise ValueError(f"CameraSpec.{name} must be a finite number, got {v!r}")
+        check_ranges(self)
 
     @property
     def fx(self) -> float:
@@ -121,9 +143,10 @@ class CameraRig:
     upper: CameraSpec = NAO_UPPER
     lower: CameraSpec = NAO_LOWER
 
+    RANGES: ClassVar[Ranges] = {"neck_height": Range(0.05, 3.0)}
+
     def __post_init__(self) -> None:
-        if not isinstance(self.neck_height, int | float) or not 0.05 <= self.neck_height <= 3.0:
-            raise ValueError(f"CameraRig.neck_height must be in [0.05, 3] m, got {self.neck_height!r}")
+        check_ranges(self)
 
     def spec(self, camera: CameraName | int) -> CameraSpec:
         """The spec of ``camera`` ('upper'/'lower' or index 0/1)."""

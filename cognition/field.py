@@ -25,6 +25,33 @@ The NimbRo paper gives only the KidSize field size (4.5 x 3 m), blue/yellow goal
 four corner poles; the other KidSize values follow the Humanoid League rules of that era
 approximately (corner poles assumed 0.3 m outside each corner along the goal line).
 Colour schemes (:class:`ColourScheme`) are separate from the geometry.
+
+Ranges of :class:`FieldDimensions` (metres; checked when the dimensions are built, with the
+rules that the boxes, circle, mark and goal fit on the field):
+
+======================  ===========  ==========================================================
+field                   range        meaning
+======================  ===========  ==========================================================
+length                  (0, 100]     touchline length
+width                   (0, 100]     goal-line length
+line_width              (0, 1]       width of the white lines
+goal_area_length        (0, 50]      depth of the goal area
+goal_area_width         (0, 100]     width of the goal area
+penalty_area_length     (0, 50]      depth of the penalty area (None: one box only)
+penalty_area_width      (0, 100]     width of the penalty area (None: one box only)
+penalty_mark_distance   (0, 50]      goal line to penalty mark
+penalty_mark_size       (0, 1]       size of the penalty mark
+centre_mark             true/false   whether there is a centre mark
+centre_circle_diameter  (0, 100]     centre circle diameter
+border_strip            (0, 10]      carpet beyond the lines
+goal_inner_width        (0, 100]     clear width between the posts
+goal_post_diameter      (0, 1]       goal post diameter
+goal_height             (0, 10]      crossbar height
+goal_depth              (0, 10]      depth of the goal behind the goal line
+ball_diameter           (0, 1]       ball diameter
+corner_pole_offset      [0, 10]      corner poles beyond the corners (None: no poles)
+corner_pole_diameter    (0, 1]       corner pole diameter
+======================  ===========  ==========================================================
 """
 
 from __future__ import annotations
@@ -32,12 +59,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 from dataclasses import field as dc_field
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from cognition.geometry import wrap_angle
+from cognition.params import Ranges, check_ranges, non_negative, positive
 
 GoalName = Literal["own", "opponent"]
 CrossingKind = Literal["L", "T", "X"]
@@ -56,15 +84,13 @@ def mirrored(x: float, y: float, theta: float) -> tuple[float, float, float]:
     return (-x, -y, wrap_angle(theta + math.pi))
 
 
-_OPTIONAL = ("penalty_area_length", "penalty_area_width", "corner_pole_offset")
-
-
 @dataclass(frozen=True)
 class FieldDimensions:
     """Field geometry; all lengths in metres, measured as in the rule books.
 
     Box lengths run along x (from the goal line's centre into the field), box widths along
-    y. Every length must be finite and > 0; a ``ValueError`` names the offending field.
+    y. Every length must lie in its range (module table) and the parts must fit together; a
+    ``ValueError`` (``TypeError`` for a non-number) names the offending field.
     """
 
     length: float
@@ -107,21 +133,29 @@ class FieldDimensions:
     corner_pole_diameter: float = 0.1
     """Corner pole diameter (m); unused when there are no corner poles."""
 
+    RANGES: ClassVar[Ranges] = {
+        "length": positive(100.0),
+        "width": positive(100.0),
+        "line_width": positive(1.0),
+        "goal_area_length": positive(50.0),
+        "goal_area_width": positive(100.0),
+        "penalty_area_length": positive(50.0),
+        "penalty_area_width": positive(100.0),
+        "penalty_mark_distance": positive(50.0),
+        "penalty_mark_size": positive(1.0),
+        "centre_circle_diameter": positive(100.0),
+        "border_strip": positive(10.0),
+        "goal_inner_width": positive(100.0),
+        "goal_post_diameter": positive(1.0),
+        "goal_height": positive(10.0),
+        "goal_depth": positive(10.0),
+        "ball_diameter": positive(1.0),
+        "corner_pole_offset": non_negative(10.0),
+        "corner_pole_diameter": positive(1.0),
+    }
+
     def __post_init__(self) -> None:
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if f.name == "centre_mark":
-                if not isinstance(value, bool):
-                    raise ValueError(f"FieldDimensions.centre_mark must be a bool, got {value!r}")
-            elif value is None:
-                if f.name not in _OPTIONAL:
-                    raise ValueError(f"FieldDimensions.{f.name} must not be None")
-            elif isinstance(value, bool) or not isinstance(value, int | float):
-                raise ValueError(f"FieldDimensions.{f.name} must be a number, got {value!r}")
-            elif not math.isfinite(value) or value < 0 or (value == 0 and f.name != _OPTIONAL[2]):
-                bound = ">= 0" if f.name == _OPTIONAL[2] else "> 0"
-                msg = f"must be finite and {bound}, got {value!r}"
-                raise ValueError(f"FieldDimensions.{f.name} {msg}")
+        check_ranges(self)
         if (self.penalty_area_length is None) != (self.penalty_area_width is None):
             raise ValueError(
                 "FieldDimensions.penalty_area_length and penalty_area_width must both be set or "

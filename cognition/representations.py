@@ -25,6 +25,10 @@ MotionRequest          walk or kick, plus head
 BrainOutput            motion request and an optional team message (<= 128 bytes)
 RobotPose              the localization's pose estimate (team frame) with its uncertainty
 =====================  ==================================================================
+
+The requests are built every frame; they refuse NaN, infinity and anything that is not a
+real number (bool, str, complex, None) with an error naming the field
+(:func:`cognition.params.check_finite`, a cheap check).
 """
 
 from __future__ import annotations
@@ -38,13 +42,8 @@ from numpy.typing import NDArray
 
 from cognition.camera import CameraImage
 from cognition.gamestate import TEAM_MESSAGE_MAX_BYTES, GameControlData
+from cognition.params import check_finite
 from cognition.percepts import Percepts
-
-
-def _check_finite(owner: str, **values: float) -> None:
-    for name, v in values.items():
-        if not math.isfinite(v):
-            raise ValueError(f"{owner}.{name} must be a finite number, got {v!r}")
 
 
 @dataclass(frozen=True)
@@ -140,7 +139,7 @@ class WalkRequest:
     """Turn rate (rad/s), counter-clockwise."""
 
     def __post_init__(self) -> None:
-        _check_finite("WalkRequest", forward=self.forward, left=self.left, turn=self.turn)
+        check_finite("WalkRequest", forward=self.forward, left=self.left, turn=self.turn)
 
 
 @dataclass(frozen=True)
@@ -153,7 +152,7 @@ class KickRequest:
     """Fraction of the strongest kick, in [0, 1]."""
 
     def __post_init__(self) -> None:
-        _check_finite("KickRequest", direction=self.direction, strength=self.strength)
+        check_finite("KickRequest", direction=self.direction, strength=self.strength)
         if not 0.0 <= self.strength <= 1.0:
             raise ValueError(f"KickRequest.strength must be in [0, 1], got {self.strength}")
 
@@ -172,7 +171,7 @@ class HeadRequest:
     """The camera to read in the next frame."""
 
     def __post_init__(self) -> None:
-        _check_finite("HeadRequest", yaw=self.yaw, pitch=self.pitch, speed=self.speed)
+        check_finite("HeadRequest", yaw=self.yaw, pitch=self.pitch, speed=self.speed)
         if self.speed <= 0:
             raise ValueError(f"HeadRequest.speed must be > 0, got {self.speed}")
         if self.camera not in ("upper", "lower"):

@@ -191,26 +191,28 @@ def test_focal_lengths() -> None:
 
 
 @pytest.mark.parametrize(
-    ("changes", "field"),
+    ("changes", "field", "error"),
     [
-        ({"width": 0}, "width"),
-        ({"height": 0}, "height"),
-        ({"width": 4}, "width"),
-        ({"height": MIN_IMAGE_SIZE - 1}, "height"),
-        ({"width": 320.0}, "width"),
-        ({"width": True}, "width"),
-        ({"hfov": 0.0}, "hfov"),
-        ({"hfov": -0.5}, "hfov"),
-        ({"hfov": 0.9 * math.pi}, "hfov"),
-        ({"hfov": True}, "hfov"),
-        ({"tilt": False}, "tilt"),
-        ({"vfov": 3.0}, "vfov"),
-        ({"tilt": math.nan}, "tilt"),
-        ({"offset_x": math.inf}, "offset_x"),
+        ({"width": 0}, "width", ValueError),
+        ({"height": 0}, "height", ValueError),
+        ({"width": 4}, "width", ValueError),
+        ({"height": MIN_IMAGE_SIZE - 1}, "height", ValueError),
+        ({"width": 4096}, "width", ValueError),
+        ({"width": 320.0}, "width", TypeError),
+        ({"width": True}, "width", TypeError),
+        ({"hfov": 0.0}, "hfov", ValueError),
+        ({"hfov": -0.5}, "hfov", ValueError),
+        ({"hfov": 0.9 * math.pi}, "hfov", ValueError),
+        ({"hfov": True}, "hfov", TypeError),
+        ({"tilt": False}, "tilt", TypeError),
+        ({"vfov": 3.0}, "vfov", ValueError),
+        ({"tilt": math.nan}, "tilt", ValueError),
+        ({"offset_x": math.inf}, "offset_x", ValueError),
+        ({"offset_z": "0.1"}, "offset_z", TypeError),
     ],
 )
-def test_camera_spec_rejects_bad_input(changes: dict[str, object], field: str) -> None:
-    with pytest.raises(ValueError, match=rf"CameraSpec\.{field}\b"):
+def test_camera_spec_rejects_bad_input(changes: dict[str, object], field: str, error: type[Exception]) -> None:
+    with pytest.raises(error, match=rf"CameraSpec\.{field}\b"):
         CameraSpec(**{"tilt": 0.1, "hfov": 1.0, "vfov": 0.75, **changes})  # type: ignore[arg-type]
 
 

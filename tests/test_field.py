@@ -273,7 +273,7 @@ def test_field_dimensions_direct_construction() -> None:
     assert FieldDimensions(**kwargs) == FIELD_PRESETS["spl2013"]
     with pytest.raises(ValueError, match=r"length.*-1\.0"):
         FieldDimensions(**{**kwargs, "length": -1.0})
-    with pytest.raises(ValueError, match="centre_mark"):
+    with pytest.raises(TypeError, match=r"FieldDimensions\.centre_mark must be true or false, got 1"):
         FieldDimensions(**{**kwargs, "centre_mark": 1})
     with pytest.raises(ValueError, match=r"ColourScheme\.line_white"):
         dataclasses.replace(COLOUR_SCHEMES["classic"], line_white=(255, 255, 256))

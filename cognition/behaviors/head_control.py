@@ -30,24 +30,27 @@ beyond ``upper_above`` m, hysteresis), and the pitch puts the point at the image
 (camera heights and tilts of the NAO V6, :mod:`cognition.camera`), limited to
 [``pitch_min``, ``pitch_max``].
 
-=================  =======  ========================================================
-HeadParams         default  meaning
-=================  =======  ========================================================
-scan_period        5.0      s between the starts of two routine scans
-scan_duration      1.0      s for one sweep from one side to the other
-scan_yaw           1.4      sweep amplitude (rad, both sides)
-scan_pitch         0.3      head pitch while scanning (rad, positive looks down)
-scan_speed         4.0      head speed requested while scanning (rad/s)
-player_offset      0.7      routine scan of player n starts n * offset s later
-uncertain_std      0.6      position std (m) above which the head scans ...
-certain_std        0.35     ... until it is below this again (m)
-track_speed        4.0      head speed requested while tracking (rad/s)
-max_yaw            1.5      largest tracking yaw (rad)
-lower_below        0.7      ball distance (m) below which the lower camera is read
-upper_above        0.9      ball distance (m) above which the upper camera is read
-pitch_min          -0.3     pitch limits while tracking (rad)
-pitch_max          0.5
-=================  =======  ========================================================
+=================  =======  ==============  ========================================================
+HeadParams         default  range           meaning
+=================  =======  ==============  ========================================================
+scan_period        5.0      (0, 3600]       s between the starts of two routine scans
+scan_duration      1.0      (0, 3600]       s for one sweep from one side to the other (<= scan_period)
+scan_yaw           1.4      [0, pi]         sweep amplitude (rad, both sides)
+scan_pitch         0.3      [-pi/2, pi/2]   head pitch while scanning (rad, positive looks down)
+scan_speed         4.0      (0, 100]        head speed requested while scanning (rad/s)
+player_offset      0.7      [0, 3600]       routine scan of player n starts n * offset s later
+uncertain_std      0.6      (0, 100]        position std (m) above which the head scans ...
+certain_std        0.35     (0, 100]        ... until it is below this again (m; <= uncertain_std)
+track_speed        4.0      (0, 100]        head speed requested while tracking (rad/s)
+max_yaw            1.5      (0, pi]         largest tracking yaw (rad)
+lower_below        0.7      (0, 100]        ball distance (m) below which the lower camera is read
+upper_above        0.9      (0, 100]        ball distance (m) above which the upper camera is read
+pitch_min          -0.3     [-pi/2, pi/2]   pitch limits while tracking (rad; pitch_min < pitch_max)
+pitch_max          0.5      [-pi/2, pi/2]
+=================  =======  ==============  ========================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 
 The routine timing and the sweep (``scan_period`` to ``player_offset``) live in
 :class:`HeadSweep`, which :class:`~cognition.behaviors.localizing_players.LocalizingBrain`
@@ -58,10 +61,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import ClassVar, Literal
 
 from cognition.brain import BrainContext
-from cognition.params import check_non_negative, check_positive
+from cognition.params import Range, Ranges, check_ranges, non_negative, positive
 from cognition.representations import HeadRequest
 from cognition.worldmodel.beliefs import Beliefs
 
@@ -91,17 +94,26 @@ class HeadParams:
     pitch_min: float = -0.3
     pitch_max: float = 0.5
 
+    RANGES: ClassVar[Ranges] = {
+        "scan_period": positive(3600.0),
+        "scan_duration": positive(3600.0),
+        "scan_yaw": non_negative(math.pi),
+        "scan_pitch": Range(-math.pi / 2, math.pi / 2),
+        "scan_speed": positive(100.0),
+        "player_offset": non_negative(3600.0),
+        "uncertain_std": positive(100.0),
+        "certain_std": positive(100.0),
+        "track_speed": positive(100.0),
+        "max_yaw": positive(math.pi),
+        "lower_below": positive(100.0),
+        "upper_above": positive(100.0),
+        "pitch_min": Range(-math.pi / 2, math.pi / 2),
+        "pitch_max": Range(-math.pi / 2, math.pi / 2),
+    }
+
     def __post_init__(self) -> None:
+        check_ranges(self)
         o = "HeadParams"
-        check_positive(
-            o, scan_period=self.scan_period, scan_duration=self.scan_duration, scan_speed=self.scan_speed,
-            uncertain_std=self.uncertain_std, certain_std=self.certain_std, track_speed=self.track_speed,
-            max_yaw=self.max_yaw, lower_below=self.lower_below, upper_above=self.upper_above,
-        )  # fmt: skip
-        check_non_negative(o, scan_yaw=self.scan_yaw, player_offset=self.player_offset)
-        for name in ("scan_pitch", "pitch_min", "pitch_max"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{o}.{name} must be a finite number, got {getattr(self, name)!r}")
         if self.scan_duration > self.scan_period:
             raise ValueError(f"{o}.scan_duration ({self.scan_duration}) exceeds scan_period ({self.scan_period})")
         if self.certain_std > self.uncertain_std:

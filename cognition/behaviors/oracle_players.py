@@ -22,6 +22,21 @@ wait        PLAYING while the opponent has a kickoff or set play: keep 0.8 m
 
 Team messages: each player broadcasts a small status (number, x, y, theta) at a rate that
 spreads the team's remaining message budget over the remaining game time.
+
+====================  =======  ==========  =======================================================
+OracleParams          default  range       meaning
+====================  =======  ==========  =======================================================
+approach_distance     0.22     (0, 10]     where the striker lines up behind the ball (m)
+kick_distance         0.26     (0, 10]     largest robot-ball centre distance of a kick (m)
+kick_bearing          0.35     (0, pi]     largest |bearing| to the ball of a kick (rad)
+keep_away             0.8      (0, 100]    distance kept from the ball in the opponent's set play (m)
+min_message_interval  1.0      [0, 3600]   least time between two status messages (s)
+outside_allowance     0.1      [0, 10]     how far beyond the field lines a target may lie (m)
+personal_space        0.45     (0, 100]    targets are kept this far from other robots (m)
+====================  =======  ==========  =======================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
@@ -29,12 +44,14 @@ from __future__ import annotations
 import math
 import struct
 from dataclasses import dataclass
+from typing import ClassVar
 
 from cognition.behaviors.message_budget import message_due
 from cognition.brain import BrainContext
 from cognition.gamestate import GameStateId, SetPlay
 from cognition.geometry import wrap_angle
 from cognition.oracle import OracleInput, OraclePose
+from cognition.params import Ranges, check_ranges, non_negative, positive
 from cognition.positions import kickoff_position
 from cognition.representations import (
     BrainOutput,
@@ -67,6 +84,19 @@ class OracleParams:
     """How far beyond the field lines (m) a target may lie; leaving the field is penalised."""
     personal_space: float = 0.45
     """Targets are kept this far (m, centre to centre) from other robots."""
+
+    RANGES: ClassVar[Ranges] = {
+        "approach_distance": positive(10.0),
+        "kick_distance": positive(10.0),
+        "kick_bearing": positive(math.pi),
+        "keep_away": positive(100.0),
+        "min_message_interval": non_negative(3600.0),
+        "outside_allowance": non_negative(10.0),
+        "personal_space": positive(100.0),
+    }
+
+    def __post_init__(self) -> None:
+        check_ranges(self)
 
 
 class OracleBrain:

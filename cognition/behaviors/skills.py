@@ -45,43 +45,48 @@ No pushing: every walk drops the part of its velocity that drives toward an obst
 than ``contact_distance`` (robot frame), and targets stay inside the field lines plus
 ``outside_allowance`` (leaving the field is penalised).
 
-=====================  =======  ======================================================================
-SkillParams            default  meaning
-=====================  =======  ======================================================================
-approach_distance      0.22     line-up distance behind the ball (m, centre to centre)
-kick_distance          0.29     largest robot-ball distance at which a kick is started (m, centre to
-                                centre; the kick connects up to 0.31 m, :mod:`teamsim.robot`)
-kick_bearing           0.35     largest |bearing| of the ball at which a kick is started (rad)
-kick_alignment         0.6      largest |aim - heading| at which a kick is started (rad)
-side_kick              1.0      largest |aim - heading| of a side kick, used when the line-up spot
-                                straight behind the ball is off limits (ball at a corner or a line);
-                                the robot's kick reaches 1.05 rad (:mod:`teamsim.robot`)
-keep_away              0.8      distance kept from the ball in the opponent's kickoff or set play (m)
-personal_space         0.45     walk targets are kept this far from other robots (m, centre to centre)
-outside_allowance      0.1      how far beyond the field lines a target may lie (m); a robot of
-                                radius 0.14 m leaves the field (penalised) past 0.165 m
-close_to_goal          2.5      goal distance (m) below which the goal model aims the kick
-goal_confidence        0.5      least goal-model confidence to aim with it
-goal_gate              1.5      the goal model must lie within this of the opponent goal by the pose (m)
-defend_distance        1.2      the defender's distance in front of the own goal centre (m)
-contact_distance       0.4      obstacles nearer than this (m) are never walked toward
-search_turn            0.8      turn rate while searching for the ball (rad/s)
-kick_speed             3.0      ball speed of a full-strength kick the pass assumes (m/s)
-ball_deceleration      1.0      rolling deceleration of the ball the pass assumes (m/s^2)
-pass_min, pass_max     0.8, 4   teammates this far from the ball (m) can receive a pass
-pass_lead              0.3      a pass goes this far ahead of the receiver, toward the goal (m)
-=====================  =======  ======================================================================
+=====================  =======  ==========  ======================================================================
+SkillParams            default  range       meaning
+=====================  =======  ==========  ======================================================================
+approach_distance      0.22     (0, 10]     line-up distance behind the ball (m, centre to centre; < kick_distance)
+kick_distance          0.29     (0, 10]     largest robot-ball distance at which a kick is started (m, centre to
+                                            centre; the kick connects up to 0.31 m, :mod:`teamsim.robot`)
+kick_bearing           0.35     (0, pi]     largest |bearing| of the ball at which a kick is started (rad)
+kick_alignment         0.6      (0, pi]     largest |aim - heading| at which a kick is started (rad)
+side_kick              1.0      (0, pi]     largest |aim - heading| of a side kick, used when the line-up spot
+                                            straight behind the ball is off limits (ball at a corner or a line);
+                                            the robot's kick reaches 1.05 rad (:mod:`teamsim.robot`)
+keep_away              0.8      (0, 100]    distance kept from the ball in the opponent's kickoff or set play (m)
+personal_space         0.45     (0, 100]    walk targets are kept this far from other robots (m, centre to centre)
+outside_allowance      0.1      [0, 10]     how far beyond the field lines a target may lie (m); a robot of
+                                            radius 0.14 m leaves the field (penalised) past 0.165 m
+close_to_goal          2.5      (0, 100]    goal distance (m) below which the goal model aims the kick
+goal_confidence        0.5      [0, 1]      least goal-model confidence to aim with it
+goal_gate              1.5      (0, 100]    the goal model must lie within this of the opponent goal by the pose (m)
+defend_distance        1.2      (0, 100]    the defender's distance in front of the own goal centre (m)
+contact_distance       0.4      (0, 100]    obstacles nearer than this (m) are never walked toward
+search_turn            0.8      (0, 20]     turn rate while searching for the ball (rad/s)
+kick_speed             3.0      (0, 20]     ball speed of a full-strength kick the pass assumes (m/s)
+ball_deceleration      1.0      (0, 100]    rolling deceleration of the ball the pass assumes (m/s^2)
+pass_min               0.8      (0, 100]    teammates from this far from the ball (m) ...
+pass_max               4.0      (0, 100]    ... up to this far can receive a pass (pass_min < pass_max)
+pass_lead              0.3      [0, 100]    a pass goes this far ahead of the receiver, toward the goal (m)
+=====================  =======  ==========  ======================================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 from cognition.behaviors.head_control import HeadControl, HeadParams
 from cognition.brain import BrainContext
 from cognition.geometry import wrap_angle
-from cognition.params import check_non_negative, check_positive
+from cognition.params import PROBABILITY, Ranges, check_ranges, non_negative, positive
 from cognition.positions import kickoff_position
 from cognition.representations import KickRequest, MotionRequest, WalkRequest
 from cognition.worldmodel.beliefs import Beliefs, Teammate
@@ -126,20 +131,31 @@ class SkillParams:
     pass_max: float = 4.0
     pass_lead: float = 0.3
 
+    RANGES: ClassVar[Ranges] = {
+        "approach_distance": positive(10.0),
+        "kick_distance": positive(10.0),
+        "kick_bearing": positive(math.pi),
+        "kick_alignment": positive(math.pi),
+        "side_kick": positive(math.pi),
+        "keep_away": positive(100.0),
+        "personal_space": positive(100.0),
+        "outside_allowance": non_negative(10.0),
+        "close_to_goal": positive(100.0),
+        "goal_confidence": PROBABILITY,
+        "goal_gate": positive(100.0),
+        "defend_distance": positive(100.0),
+        "contact_distance": positive(100.0),
+        "search_turn": positive(20.0),
+        "kick_speed": positive(20.0),
+        "ball_deceleration": positive(100.0),
+        "pass_min": positive(100.0),
+        "pass_max": positive(100.0),
+        "pass_lead": non_negative(100.0),
+    }
+
     def __post_init__(self) -> None:
+        check_ranges(self)
         o = "SkillParams"
-        check_positive(
-            o, approach_distance=self.approach_distance, kick_distance=self.kick_distance,
-            kick_bearing=self.kick_bearing, kick_alignment=self.kick_alignment, side_kick=self.side_kick,
-            keep_away=self.keep_away,
-            personal_space=self.personal_space, close_to_goal=self.close_to_goal, goal_gate=self.goal_gate,
-            defend_distance=self.defend_distance, contact_distance=self.contact_distance,
-            search_turn=self.search_turn, kick_speed=self.kick_speed, ball_deceleration=self.ball_deceleration,
-            pass_min=self.pass_min, pass_max=self.pass_max,
-        )  # fmt: skip
-        check_non_negative(
-            o, outside_allowance=self.outside_allowance, goal_confidence=self.goal_confidence, pass_lead=self.pass_lead
-        )
         if self.approach_distance >= self.kick_distance:
             raise ValueError(
                 f"{o}.approach_distance ({self.approach_distance}) must be below kick_distance ({self.kick_distance}): "
@@ -147,8 +163,6 @@ class SkillParams:
             )
         if self.pass_min >= self.pass_max:
             raise ValueError(f"{o}.pass_min ({self.pass_min}) must be below pass_max ({self.pass_max})")
-        if self.goal_confidence > 1.0:
-            raise ValueError(f"{o}.goal_confidence must be in [0, 1], got {self.goal_confidence}")
 
 
 class Skills:

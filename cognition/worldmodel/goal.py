@@ -10,17 +10,29 @@ the known post separation w fixes d_R = w / |q u_L - u_R|.
 merges detections of the same post (bearing within ``merge_angle``) into tracks whose
 confidence grows with every detection. The two most confident tracks are the posts; the
 one with the larger bearing is the left post. Positions in the **robot frame** (m, rad).
+
+==================  ========  ==========  ====================================================
+GoalModelParams     default   range       meaning
+==================  ========  ==========  ====================================================
+merge_angle         5 deg     (0, pi]     detections within this bearing of a track join it (rad)
+confidence_gain     0.25      (0, 1]      confidence a track gains per detection
+decay_per_second    0.2       (0, 100]    confidence a track loses per second
+==================  ========  ==========  ====================================================
+
+The post separation given to :class:`GoalModel` lies in (0, 100] m. Every value is checked
+against its range when the parameters are built (:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.params import check_positive
+from cognition.params import Ranges, check_number, check_ranges, positive
 from cognition.percepts import Percepts
 
 
@@ -69,20 +81,21 @@ class GoalModelParams:
     decay_per_second: float = 0.2
     """Confidence lost per second (the scan ages)."""
 
+    RANGES: ClassVar[Ranges] = {
+        "merge_angle": positive(math.pi),
+        "confidence_gain": positive(1.0),
+        "decay_per_second": positive(100.0),
+    }
+
     def __post_init__(self) -> None:
-        check_positive(
-            "GoalModelParams",
-            merge_angle=self.merge_angle,
-            confidence_gain=self.confidence_gain,
-            decay_per_second=self.decay_per_second,
-        )
+        check_ranges(self)
 
 
 class GoalModel:
     """Goal-post tracks over a scan; :meth:`estimate` gives the goal (module docstring)."""
 
     def __init__(self, separation: float, params: GoalModelParams | None = None):
-        check_positive("GoalModel", separation=separation)
+        check_number("GoalModel", "separation", separation, positive(100.0))
         self.separation = separation
         self.params = params or GoalModelParams()
         self._tracks: list[list[float]] = []  # x, y, confidence, mean distance-scale samples

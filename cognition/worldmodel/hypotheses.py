@@ -15,6 +15,24 @@ Otherwise the model keeps ranked hypotheses, each with a confidence in [0, 1]:
 The best hypothesis is thresholded into CMU's three levels: ``valid`` (confidence at
 least ``valid_level``), ``suspicious`` (at least ``suspicious_level``: the behavior should
 look there, the model's active-gaze request) and ``invalid``.
+
+======================  =======  ==========  ========================================================
+HypothesisParams        default  range       meaning
+======================  =======  ==========  ========================================================
+decay_per_second        0.08     [0, 100]    confidence an own hypothesis loses per second
+walk_decay_per_metre    0.3      [0, 100]    ... per metre the robot walks
+turn_decay_per_radian   0.1      [0, 100]    ... per radian the robot turns
+team_decay_per_second   0.08     [0, 100]    confidence a team hypothesis loses per second
+negative_per_second     2.0      [0, 1000]   loss per second while in view and not seen
+view_distance           4.0      (0, 100]    only hypotheses nearer than this (m) count as in view
+valid_level             0.6      [0, 1]      least confidence of a ``valid`` ball
+suspicious_level        0.3      [0, 1]      least confidence of a ``suspicious`` ball (<= valid_level)
+merge_distance          0.3      (0, 100]    team hypotheses this near (m) an own one reinforce it
+max_team_age            2.0      [0, 3600]   teammates' balls older than this (s) are ignored
+======================  =======  ==========  ========================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
@@ -22,10 +40,11 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
-from cognition.params import check_non_negative, check_positive, check_probability
+from cognition.params import PROBABILITY, Ranges, check_ranges, non_negative, positive
 from cognition.percepts import Percepts
 from cognition.representations import BallLevel, RobotPose, SensorFrame
 from cognition.worldmodel.messages import TeamMessage
@@ -49,16 +68,26 @@ class HypothesisParams:
     max_team_age: float = 2.0
     """Teammates' balls older than this (s since they saw it) are ignored."""
 
+    RANGES: ClassVar[Ranges] = {
+        "decay_per_second": non_negative(100.0),
+        "walk_decay_per_metre": non_negative(100.0),
+        "turn_decay_per_radian": non_negative(100.0),
+        "team_decay_per_second": non_negative(100.0),
+        "negative_per_second": non_negative(1000.0),
+        "view_distance": positive(100.0),
+        "valid_level": PROBABILITY,
+        "suspicious_level": PROBABILITY,
+        "merge_distance": positive(100.0),
+        "max_team_age": non_negative(3600.0),
+    }
+
     def __post_init__(self) -> None:
-        o = "HypothesisParams"
-        check_non_negative(o, decay_per_second=self.decay_per_second, walk_decay_per_metre=self.walk_decay_per_metre,
-                           turn_decay_per_radian=self.turn_decay_per_radian,
-                           team_decay_per_second=self.team_decay_per_second,
-                           negative_per_second=self.negative_per_second, max_team_age=self.max_team_age)  # fmt: skip
-        check_positive(o, view_distance=self.view_distance, merge_distance=self.merge_distance)
-        check_probability(o, valid_level=self.valid_level, suspicious_level=self.suspicious_level)
+        check_ranges(self)
         if self.suspicious_level > self.valid_level:
-            raise ValueError(f"{o}: suspicious_level must not exceed valid_level")
+            raise ValueError(
+                f"HypothesisParams.suspicious_level ({self.suspicious_level}) must not exceed valid_level "
+                f"({self.valid_level})"
+            )
 
 
 @dataclass

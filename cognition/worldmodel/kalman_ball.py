@@ -21,18 +21,36 @@ pose. The functional core:
 The sigmas come from the percept (``adaptive``, the Darmstadt model the camera reports) or
 are fixed angles (``fixed``: 5 or 15 degrees in the paper's Table I). The arithmetic is
 compiled (numba, explicit small-matrix loops) so that a frame costs a few microseconds.
+
+======================  ========  ==============  ===========================================
+KalmanBallParams        default   range           meaning
+======================  ========  ==============  ===========================================
+rolling_deceleration    1.0       [0, 100]        deceleration of a rolling ball (m/s^2)
+accel_sigma             0.3       [0, 100]        process noise: white acceleration (m/s^1.5)
+size_sigma_px           0.6       (0, 100]        sd of the ball's image radius (px)
+sigma_mode              adaptive                  ``adaptive`` (percept sigmas) or ``fixed``
+fixed_sigma             5 deg     (0, pi/2]       angular sd in ``fixed`` mode (rad)
+initial_velocity_sigma  1.0       (0, 100]        velocity sd of a newly seen ball (m/s)
+team_threshold          0.25      (0, 10000]      own variance (m^2) above which team balls count
+sigmas_at_prediction    true      true/false      eqs. 8-12 at the predicted distance
+team_inflation          2.0       (0, 1000]       factor on a teammate's covariance
+======================  ========  ==============  ===========================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.params import check_choice, check_non_negative, check_positive
+from cognition.params import Ranges, check_choice, check_ranges, non_negative, positive
 
 SIGMA_MODES = ("adaptive", "fixed")
 
@@ -65,15 +83,19 @@ class KalmanBallParams:
     team_inflation: float = 2.0
     """Factor on a teammate's covariance (pose errors, timing; Darmstadt V.B)."""
 
+    RANGES: ClassVar[Ranges] = {
+        "rolling_deceleration": non_negative(100.0),
+        "accel_sigma": non_negative(100.0),
+        "size_sigma_px": positive(100.0),
+        "fixed_sigma": positive(math.pi / 2),
+        "initial_velocity_sigma": positive(100.0),
+        "team_threshold": positive(10_000.0),
+        "team_inflation": positive(1000.0),
+    }
+
     def __post_init__(self) -> None:
-        o = "KalmanBallParams"
-        check_positive(o, size_sigma_px=self.size_sigma_px, fixed_sigma=self.fixed_sigma,
-                       initial_velocity_sigma=self.initial_velocity_sigma, team_threshold=self.team_threshold,
-                       team_inflation=self.team_inflation)  # fmt: skip
-        check_non_negative(o, rolling_deceleration=self.rolling_deceleration, accel_sigma=self.accel_sigma)
-        check_choice(o, "sigma_mode", self.sigma_mode, SIGMA_MODES)
-        if not isinstance(self.sigmas_at_prediction, bool):
-            raise ValueError(f"{o}.sigmas_at_prediction must be true or false, got {self.sigmas_at_prediction!r}")
+        check_ranges(self)
+        check_choice("KalmanBallParams", "sigma_mode", self.sigma_mode, SIGMA_MODES)
 
 
 @nb.njit(cache=True)

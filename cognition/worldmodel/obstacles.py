@@ -22,22 +22,41 @@ free space, no uncertainty.
 
 Both output :class:`ObstacleModel`: obstacle positions (robot frame, m) and, for the grid,
 the occupancy probability map.
+
+====================  =======  =============  ===================================================
+ObstacleGridParams    default  range          meaning
+====================  =======  =============  ===================================================
+extent                3.0      (0, 50]        half width of the square grid (m)
+cell                  0.1      (0, 10]        cell size (m); 2 extent / cell is 1 to 500 cells
+view_range            3.0      (0, 100]       free space is only claimed this far (m)
+log_free              -0.4     [-100, 0)      log-odds added to a free cell in view
+log_hit               1.2      (0, 100]       log-odds added at the centre of an obstacle percept
+clamp                 4.0      (0, 100]       log-odds are clamped to +-clamp
+decay_per_second      1.0      [0, 100]       log-odds lost per second toward unknown
+robot_radius          0.15     (0, 10]        half width of an obstacle (m)
+====================  =======  =============  ===================================================
+
+The sector model's ``memory`` (s) lies in (0, 3600]. Every value is checked against its
+range when the parameters are built (:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.params import check_positive
+from cognition.params import Range, Ranges, check_number, check_ranges, non_negative, positive
 from cognition.percepts import Col, Kind, Percepts
 from cognition.representations import OdometryReading
 from cognition.worldmodel.kalman_ball import camera_measurement
 
 SECTORS = 72
+MAX_GRID_CELLS = 500
+"""Largest number of grid cells per side (250,000 cells, 2 MB of log-odds per robot)."""
 
 
 @dataclass(frozen=True)
@@ -70,11 +89,30 @@ class ObstacleGridParams:
     robot_radius: float = 0.15
     """Half width of an obstacle (m), added to the percept's spread."""
 
+    RANGES: ClassVar[Ranges] = {
+        "extent": positive(50.0),
+        "cell": positive(10.0),
+        "view_range": positive(100.0),
+        "log_free": Range(-100.0, 0.0, high_open=True),
+        "log_hit": positive(100.0),
+        "clamp": positive(100.0),
+        "decay_per_second": non_negative(100.0),
+        "robot_radius": positive(10.0),
+    }
+
     def __post_init__(self) -> None:
-        check_positive("ObstacleGridParams", extent=self.extent, cell=self.cell, view_range=self.view_range,
-                       log_hit=self.log_hit, clamp=self.clamp, robot_radius=self.robot_radius)  # fmt: skip
-        if self.log_free >= 0:
-            raise ValueError(f"ObstacleGridParams.log_free must be < 0, got {self.log_free}")
+        check_ranges(self)
+        n = round(2 * self.extent / self.cell)
+        if not 1 <= n <= MAX_GRID_CELLS:
+            raise ValueError(
+                f"ObstacleGridParams.extent and cell give a grid of {n} x {n} cells (2 extent / cell); "
+                f"it must have 1 to {MAX_GRID_CELLS} cells per side, got extent {self.extent!r} m, cell {self.cell!r} m"
+            )
+
+    @property
+    def cells_per_side(self) -> int:
+        """Cells along each side of the square grid: ``round(2 extent / cell)``."""
+        return round(2 * self.extent / self.cell)
 
 
 class ObstacleGrid:
@@ -83,7 +121,7 @@ class ObstacleGrid:
     def __init__(self, params: ObstacleGridParams | None = None):
         self.params = params or ObstacleGridParams()
         p = self.params
-        self.n = round(2 * p.extent / p.cell)
+        self.n = p.cells_per_side
         c = (np.arange(self.n) + 0.5) * p.cell - p.extent
         self.cx, self.cy = np.meshgrid(c, c)  # cell centres, robot frame
         self.logodds = np.zeros((self.n, self.n))
@@ -152,7 +190,7 @@ class ObstacleSectors:
     """The 72-sector model: nearest obstacle distance per 5 degrees (module docstring)."""
 
     def __init__(self, memory: float = 3.0):
-        check_positive("ObstacleSectors", memory=memory)
+        check_number("ObstacleSectors", "memory", memory, positive(3600.0))
         self.memory = memory
         self.distance = np.full(SECTORS, np.inf)
         self.stamp = np.full(SECTORS, -np.inf)
