@@ -6,26 +6,30 @@ jitter, unless that copy is lost (independently per receiver, probability ``loss
 team has a budget of messages for the whole game (1200 by default, as the SPL rules set);
 a message sent with an exhausted budget is not delivered and is counted as refused.
 
-=============  =======  ======================================================
-parameter      default  meaning
-=============  =======  ======================================================
-delay          0.05 s   fixed part of the delivery delay
-jitter         0.05 s   extra delay drawn uniformly from [0, jitter]
-loss           0.05     probability that one receiver's copy is lost
-budget         1200     messages per team per game
-=============  =======  ======================================================
+=============  =======  ============  ======================================================
+parameter      default  range         meaning
+=============  =======  ============  ======================================================
+delay          0.05 s   [0, 60]       fixed part of the delivery delay
+jitter         0.05 s   [0, 60]       extra delay drawn uniformly from [0, jitter]
+loss           0.05     [0, 1]        probability that one receiver's copy is lost
+budget         1200     [0, 1000000]  messages per team per game
+=============  =======  ============  ======================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
 
 import heapq
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
 from cognition.gamestate import TEAM_MESSAGE_BUDGET, TEAM_MESSAGE_MAX_BYTES
 from cognition.representations import TeamMessageIn
-from teamsim.params import check_non_negative, check_probability
+from teamsim.params import PROBABILITY, Range, Ranges, check_ranges, non_negative
 
 
 @dataclass(frozen=True)
@@ -37,11 +41,15 @@ class ChannelParams:
     loss: float = 0.05
     budget: int = TEAM_MESSAGE_BUDGET
 
+    RANGES: ClassVar[Ranges] = {
+        "delay": non_negative(60.0),
+        "jitter": non_negative(60.0),
+        "loss": PROBABILITY,
+        "budget": Range(0, 1_000_000),
+    }
+
     def __post_init__(self) -> None:
-        check_non_negative("ChannelParams", delay=self.delay, jitter=self.jitter)
-        check_probability("ChannelParams", loss=self.loss)
-        if not isinstance(self.budget, int) or self.budget < 0:
-            raise ValueError(f"ChannelParams.budget must be an integer >= 0, got {self.budget!r}")
+        check_ranges(self)
 
 
 @dataclass

@@ -16,6 +16,26 @@ PlaceBall          put the ball at a position with a velocity
 ForcePenalty       penalise a robot with an SPL penalty code
 ForceFall          make a robot fall for a given duration
 =================  ==============================================================
+
+Their fields (checked when an event is built; a :class:`~teamsim.match.MatchConfig` then
+checks that poses lie on its own field's carpet and player numbers within its teams):
+
+============  ====================================  ==================================================
+field         range                                 meaning
+============  ====================================  ==================================================
+time          [0, 1000000]                          when the event happens (s since the match start)
+team          [0, 1]                                team index
+number        [1, 20]                               player number
+pose          ([-60, 60], [-60, 60], [-2pi, 2pi])   Kidnap: x, y (m) and theta (rad), or None (random)
+sense_pickup  true/false                            Kidnap: whether ``picked_up`` turns on
+x             [-60, 60]                             PlaceBall: position (m)
+y             [-60, 60]
+vx            [-50, 50]                             PlaceBall: velocity (m/s)
+vy            [-50, 50]
+code          [1, 15]                               ForcePenalty: an SPL penalty code other than NONE
+                                                    (:class:`cognition.gamestate.Penalty`)
+duration      (0, 3600]                             ForceFall: time lying on the ground (s)
+============  ====================================  ==================================================
 """
 
 from __future__ import annotations
@@ -23,9 +43,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
-from cognition.gamestate import Penalty
+from cognition.field import FieldDimensions
+from cognition.gamestate import MAX_NUM_PLAYERS, Penalty
+from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
 
 
 @dataclass(frozen=True)
@@ -82,16 +104,18 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
-def _check_time(owner: str, time: float) -> None:
-    if not isinstance(time, int | float) or not math.isfinite(time) or time < 0:
-        raise ValueError(f"{owner}.time must be a finite number >= 0, got {time!r}")
-
-
-def _check_robot(owner: str, team: int, number: int) -> None:
-    if team not in (0, 1):
-        raise ValueError(f"{owner}.team must be 0 or 1, got {team!r}")
-    if not isinstance(number, int) or number < 1:
-        raise ValueError(f"{owner}.number must be a player number >= 1, got {number!r}")
+_FIELD_RANGES = FieldDimensions.RANGES
+CARPET_LIMIT = max(_FIELD_RANGES["length"].high, _FIELD_RANGES["width"].high) / 2 + _FIELD_RANGES["border_strip"].high
+"""No carpet reaches further than this from the field centre (m): the largest field
+:class:`~cognition.field.FieldDimensions` accepts plus its widest border strip. A match checks
+its events against its own carpet (:class:`teamsim.match.MatchConfig`)."""
+_TIME = non_negative(1e6)
+_TEAM = Range(0, 1)
+_NUMBER = Range(1, MAX_NUM_PLAYERS)
+_XY = Range(-CARPET_LIMIT, CARPET_LIMIT)
+_THETA = Range(-2 * math.pi, 2 * math.pi)
+_SPEED = Range(-50.0, 50.0)
+_PENALTY_CODES = tuple(int(p) for p in Penalty if p != Penalty.NONE)
 
 
 @dataclass(frozen=True)
@@ -106,11 +130,10 @@ class Kidnap:
     sense_pickup: bool = False
     """Whether the robot's ``picked_up`` signal turns on while it is carried."""
 
+    RANGES: ClassVar[Ranges] = {"time": _TIME, "team": _TEAM, "number": _NUMBER, "pose": (_XY, _XY, _THETA)}
+
     def __post_init__(self) -> None:
-        _check_time("Kidnap", self.time)
-        _check_robot("Kidnap", self.team, self.number)
-        if self.pose is not None and not all(math.isfinite(v) for v in self.pose):
-            raise ValueError(f"Kidnap.pose must be finite, got {self.pose}")
+        check_ranges(self)
 
 
 @dataclass(frozen=True)
@@ -123,10 +146,10 @@ class PlaceBall:
     vx: float = 0.0
     vy: float = 0.0
 
+    RANGES: ClassVar[Ranges] = {"time": _TIME, "x": _XY, "y": _XY, "vx": _SPEED, "vy": _SPEED}
+
     def __post_init__(self) -> None:
-        _check_time("PlaceBall", self.time)
-        if not all(math.isfinite(v) for v in (self.x, self.y, self.vx, self.vy)):
-            raise ValueError("PlaceBall position and velocity must be finite")
+        check_ranges(self)
 
 
 @dataclass(frozen=True)
@@ -138,11 +161,17 @@ class ForcePenalty:
     number: int
     code: int = Penalty.REQUEST_FOR_PICKUP
 
+    RANGES: ClassVar[Ranges] = {
+        "time": _TIME,
+        "team": _TEAM,
+        "number": _NUMBER,
+        "code": Range(min(_PENALTY_CODES), max(_PENALTY_CODES)),
+    }
+
     def __post_init__(self) -> None:
-        _check_time("ForcePenalty", self.time)
-        _check_robot("ForcePenalty", self.team, self.number)
-        if self.code not in Penalty._value2member_map_ or self.code == Penalty.NONE:
-            raise ValueError(f"ForcePenalty.code {self.code!r} is not an SPL penalty code")
+        check_ranges(self)
+        if self.code not in _PENALTY_CODES:
+            raise ValueError(f"ForcePenalty.code must be an SPL penalty code {list(_PENALTY_CODES)}, got {self.code!r}")
 
 
 @dataclass(frozen=True)
@@ -154,11 +183,10 @@ class ForceFall:
     number: int
     duration: float = 4.0
 
+    RANGES: ClassVar[Ranges] = {"time": _TIME, "team": _TEAM, "number": _NUMBER, "duration": positive(3600.0)}
+
     def __post_init__(self) -> None:
-        _check_time("ForceFall", self.time)
-        _check_robot("ForceFall", self.team, self.number)
-        if not math.isfinite(self.duration) or self.duration <= 0:
-            raise ValueError(f"ForceFall.duration must be > 0, got {self.duration!r}")
+        check_ranges(self)
 
 
 ScriptedEvent = Kidnap | PlaceBall | ForcePenalty | ForceFall

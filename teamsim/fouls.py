@@ -3,18 +3,21 @@
 The detector looks at the world after each physics step and names the robots that committed
 a foul; the referee then penalises them. Thresholds (:class:`FoulParams`, seconds and metres):
 
-======================  ========  ===========================================================
-parameter               default   foul
-======================  ========  ===========================================================
-pushing_seconds         2.0 s     PLAYER_PUSHING: a robot's walking engine drives it into an
-                                  opponent (faster than the opponent drives back, by at least
-push_min_speed          0.05 m/s  ``push_min_speed``) for this long, or its charge topples the
-                                  opponent
-inactive_seconds        20 s      INACTIVE_PLAYER: fallen for this long
-stuck_seconds           20 s      LOCAL_GAME_STUCK: the ball stayed within ``stuck_radius``
-stuck_radius            0.3 m     for this long while a robot stood within
-stuck_robot_distance    0.5 m     ``stuck_robot_distance`` of it; the nearest robot is named
-======================  ========  ===========================================================
+======================  ========  ===========  ===========================================================
+parameter               default   range        foul
+======================  ========  ===========  ===========================================================
+pushing_seconds         2.0 s     (0, 3600]    PLAYER_PUSHING: a robot's walking engine drives it into an
+                                               opponent (faster than the opponent drives back, by at least
+push_min_speed          0.05 m/s  (0, 10]      ``push_min_speed``) for this long, or its charge topples the
+                                               opponent
+inactive_seconds        20 s      (0, 3600]    INACTIVE_PLAYER: fallen for this long
+stuck_seconds           20 s      (0, 3600]    LOCAL_GAME_STUCK: the ball stayed within ``stuck_radius``
+stuck_radius            0.3 m     (0, 100]     for this long while a robot stood within
+stuck_robot_distance    0.5 m     (0, 100]     ``stuck_robot_distance`` of it; the nearest robot is named
+======================  ========  ===========  ===========================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 
 LEAVING_THE_FIELD: a robot that had entered the field is entirely outside the outer edges of
 the field lines (more than its radius beyond them) and not inside its goal.
@@ -25,10 +28,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 from cognition.field import Field
 from cognition.gamestate import Penalty
-from teamsim.params import check_positive
+from teamsim.params import Ranges, check_ranges, positive
 from teamsim.placement import is_inside_field
 from teamsim.world import CollisionEvent, RobotId, World
 
@@ -44,16 +48,17 @@ class FoulParams:
     stuck_radius: float = 0.3
     stuck_robot_distance: float = 0.5
 
+    RANGES: ClassVar[Ranges] = {
+        "pushing_seconds": positive(3600.0),
+        "push_min_speed": positive(10.0),
+        "inactive_seconds": positive(3600.0),
+        "stuck_seconds": positive(3600.0),
+        "stuck_radius": positive(100.0),
+        "stuck_robot_distance": positive(100.0),
+    }
+
     def __post_init__(self) -> None:
-        check_positive(
-            "FoulParams",
-            pushing_seconds=self.pushing_seconds,
-            push_min_speed=self.push_min_speed,
-            inactive_seconds=self.inactive_seconds,
-            stuck_seconds=self.stuck_seconds,
-            stuck_radius=self.stuck_radius,
-            stuck_robot_distance=self.stuck_robot_distance,
-        )
+        check_ranges(self)
 
 
 @dataclass

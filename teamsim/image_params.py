@@ -5,23 +5,26 @@ vignetting, motion blur while the shutter is open (head and body motion, the err
 the Darmstadt paper's adaptive observation model is built on, section IV.B), rolling-shutter
 skew, then the sensor (exposure gain, white balance, noise) and 8-bit quantisation.
 
-=======================  =================  ==============================================
-parameter                default            meaning
-=======================  =================  ==============================================
-brightness               1.0                global exposure gain (lighting of the venue)
-brightness_jitter        0.05               sigma of the per-image log-gain (auto exposure)
-white_balance            (1.0, 1.0, 1.0)    gains of the R, G, B channels
-white_balance_jitter     0.02               sigma of the per-image log-gain of each channel
-read_noise               2.0 DN             sensor noise sigma at black (digital numbers)
-shot_noise               0.08 DN            variance per DN of signal: sigma^2 =
-                                            read_noise^2 + shot_noise * value
-exposure                 0.008 s            shutter time: motion blur = image speed x time
-walking_shake            1.0 px             extra blur length (px) while the legs move
-rolling_shutter          0.0 s              readout time per image row (0: global shutter)
-vignetting               0.25               relative brightness loss in the image corners
-grass_texture            0.06               amplitude of the carpet's brightness texture
-venue_seed               0                  seed of the procedural venue (walls, people)
-=======================  =================  ==============================================
+=======================  =================  ============  ==============================================
+parameter                default            range         meaning
+=======================  =================  ============  ==============================================
+brightness               1.0                (0, 10]       global exposure gain (lighting of the venue)
+brightness_jitter        0.05               [0, 2]        sigma of the per-image log-gain (auto exposure)
+white_balance            (1.0, 1.0, 1.0)    (0, 10]       gains of the R, G, B channels (each)
+white_balance_jitter     0.02               [0, 2]        sigma of the per-image log-gain of each channel
+read_noise               2.0 DN             [0, 255]      sensor noise sigma at black (digital numbers)
+shot_noise               0.08 DN            [0, 255]      variance per DN of signal: sigma^2 =
+                                                          read_noise^2 + shot_noise * value
+exposure                 0.008 s            [0, 0.2]      shutter time: motion blur = image speed x time
+walking_shake            1.0 px             [0, 100]      extra blur length (px) while the legs move
+rolling_shutter          0.0 s              [0, 0.001]    readout time per image row (0: global shutter)
+vignetting               0.25               [0, 1)        relative brightness loss in the image corners
+grass_texture            0.06               [0, 0.5]      amplitude of the carpet's brightness texture
+venue_seed               0                  [0, 2^63-1]   seed of the procedural venue (walls, people)
+=======================  =================  ============  ==============================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 
 Presets: ``ideal`` (no effect at all: the rendered scene exactly, deterministic and
 noise-free), ``default`` (a well-lit hall, NAO-like sensor) and ``harsh`` (dim, tinted light,
@@ -34,7 +37,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import ClassVar
 
-from teamsim.params import check_non_negative, check_positive
+from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
 
 
 @dataclass(frozen=True)
@@ -68,38 +71,23 @@ class ImageParams:
 
     PRESETS: ClassVar[dict[str, ImageParams]]
 
+    RANGES: ClassVar[Ranges] = {
+        "brightness": positive(10.0),
+        "brightness_jitter": non_negative(2.0),
+        "white_balance": positive(10.0),
+        "white_balance_jitter": non_negative(2.0),
+        "read_noise": non_negative(255.0),
+        "shot_noise": non_negative(255.0),
+        "exposure": non_negative(0.2),
+        "walking_shake": non_negative(100.0),
+        "rolling_shutter": non_negative(1e-3),
+        "vignetting": Range(0.0, 1.0, high_open=True),
+        "grass_texture": non_negative(0.5),
+        "venue_seed": Range(0, 2**63 - 1),
+    }
+
     def __post_init__(self) -> None:
-        o = "ImageParams"
-        check_positive(o, brightness=self.brightness)
-        check_non_negative(
-            o,
-            brightness_jitter=self.brightness_jitter,
-            white_balance_jitter=self.white_balance_jitter,
-            read_noise=self.read_noise,
-            shot_noise=self.shot_noise,
-            exposure=self.exposure,
-            walking_shake=self.walking_shake,
-            rolling_shutter=self.rolling_shutter,
-            vignetting=self.vignetting,
-            grass_texture=self.grass_texture,
-        )
-        wb = self.white_balance
-        if isinstance(wb, list):
-            object.__setattr__(self, "white_balance", wb := tuple(wb))
-        if not isinstance(wb, tuple) or len(wb) != 3:
-            raise ValueError(f"ImageParams.white_balance must be three channel gains (r, g, b), got {wb!r}")
-        check_positive(o, **{f"white_balance[{i}]": g for i, g in enumerate(wb)})
-        if self.vignetting >= 1.0:
-            raise ValueError(f"ImageParams.vignetting must be < 1, got {self.vignetting!r}")
-        if self.grass_texture > 0.5:
-            raise ValueError(f"ImageParams.grass_texture must be <= 0.5, got {self.grass_texture!r}")
-        if self.exposure > 0.2 or self.rolling_shutter > 1e-3:
-            raise ValueError(
-                "ImageParams.exposure must be <= 0.2 s and rolling_shutter <= 1 ms per row, "
-                f"got {self.exposure!r} and {self.rolling_shutter!r}"
-            )
-        if isinstance(self.venue_seed, bool) or not isinstance(self.venue_seed, int) or self.venue_seed < 0:
-            raise ValueError(f"ImageParams.venue_seed must be an integer >= 0, got {self.venue_seed!r}")
+        check_ranges(self)
 
     @classmethod
     def preset(cls, name: str) -> ImageParams:

@@ -12,38 +12,43 @@ All randomness comes from one ``numpy.random.SeedSequence`` built from ``seed``,
 into one generator per consumer in a fixed order, so a seed and a configuration give an
 identical match.
 
-=======================  ==========  =============================================
-MatchConfig field        default     meaning
-=======================  ==========  =============================================
-seed                     0           root of all randomness
-players_per_team         5           1..7
-field                    spl2025     field preset (spl2025, spl2013, kidsize)
-colours                  classic     colour scheme (classic, modern, kidsize)
-cognition_hz             30          cognition frames per second
-physics                  PhysicsParams  world and robot bodies
-referee                  RefereeParams  rules and timing (half_seconds, rules, ...)
-odometry                 OdometryParams odometry error model
-channel                  ChannelParams  team-message delay, loss, budget
-observation              percepts    what sensor frames carry: ``percepts`` (synthesized
-                                     by the camera model), ``images`` (rendered camera
-                                     images with their camera matrix) or ``none``
-percepts                 default     PerceptParams or a preset name (ideal, default, harsh)
-images                   default     ImageParams or a preset name (ideal, default, harsh)
-camera                   CameraRig   head height and the two NAO cameras (320 x 240)
-events                   ()          scripted events (kidnap, penalties, ...)
-localization             None        ``None``: scripted oracle players; a variant name
-                                     (``cognition.localization.VARIANTS``): the default
-                                     brains are localizing players that act on their
-                                     own pose estimate
-localization_params      default     LocalizationParams (or a mapping); its
-                                     ``return_rule`` is taken from ``referee.rules``
-obstacle_model           sectors     obstacle model of the localizing players
-                                     (``sectors`` or ``grid``)
-players                  scripted    default brains: ``scripted`` (behaviors on beliefs:
-                                     truth without ``localization``, else the cognition
-                                     stack), ``oracle`` (the foundation's players) or
-                                     ``random`` (random walkers)
-=======================  ==========  =============================================
+=======================  ==============  ============  =============================================
+MatchConfig field        default         range         meaning
+=======================  ==============  ============  =============================================
+seed                     0               [0, 2^63-1]   root of all randomness
+players_per_team         5               [1, 7]        robots per team
+field                    spl2025                       field preset (spl2025, spl2013, kidsize)
+colours                  classic                       colour scheme (classic, modern, kidsize)
+cognition_hz             30              (0, 1000]     cognition frames per second (<= physics_hz)
+physics                  PhysicsParams                 world and robot bodies
+referee                  RefereeParams                 rules and timing (half_seconds, rules, ...)
+odometry                 OdometryParams                odometry error model
+channel                  ChannelParams                 team-message delay, loss, budget
+observation              percepts                      what sensor frames carry: ``percepts`` (synthesized
+                                                       by the camera model), ``images`` (rendered camera
+                                                       images with their camera matrix) or ``none``
+percepts                 default                       PerceptParams or a preset name (ideal, default, harsh)
+images                   default                       ImageParams or a preset name (ideal, default, harsh)
+camera                   CameraRig                     head height and the two NAO cameras (320 x 240)
+events                   ()                            scripted events (kidnap, penalties, ...) for players
+                                                       of these teams, on this field's carpet
+localization             None                          ``None``: scripted oracle players; a variant name
+                                                       (``cognition.localization.VARIANTS``): the default
+                                                       brains are localizing players that act on their
+                                                       own pose estimate
+localization_params      default                       LocalizationParams (or a mapping); its
+                                                       ``return_rule`` is taken from ``referee.rules``
+obstacle_model           sectors                       obstacle model of the localizing players
+                                                       (``sectors`` or ``grid``)
+players                  scripted                      default brains: ``scripted`` (behaviors on beliefs:
+                                                       truth without ``localization``, else the cognition
+                                                       stack), ``oracle`` (the foundation's players) or
+                                                       ``random`` (random walkers)
+=======================  ==============  ============  =============================================
+
+The numbers are checked against their ranges, and every section (``physics``, ``referee``,
+...) must be an instance of its parameters class, when the config is built
+(:func:`cognition.params.check_ranges`); each section checks its own fields the same way.
 
 Camera images are taken ``percepts.latency`` seconds before the cognition frame that
 receives them (rounded to physics steps); :attr:`cognition.percepts.Percepts.time` and
@@ -58,7 +63,7 @@ from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from dataclasses import field as dataclass_field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -85,7 +90,7 @@ from teamsim.events import (
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer
 from teamsim.odometry import OdometryModel, OdometryParams, TrueOdometry
-from teamsim.params import check_choice, check_positive, from_mapping
+from teamsim.params import Range, Ranges, check_choice, check_ranges, from_mapping, positive
 from teamsim.percept_params import PerceptParams
 from teamsim.percepts import PerceptSynthesizer, Scene
 from teamsim.placement import world_to_team
@@ -124,46 +129,57 @@ class MatchConfig:
     obstacle_model: str = "sectors"
     players: str = "scripted"
 
+    RANGES: ClassVar[Ranges] = {
+        "seed": Range(0, 2**63 - 1),
+        "players_per_team": Range(1, MAX_PLAYERS_PER_TEAM),
+        "cognition_hz": positive(1000.0),
+    }
+
     def __post_init__(self) -> None:
-        if not isinstance(self.seed, int) or self.seed < 0:
-            raise ValueError(f"MatchConfig.seed must be an integer >= 0, got {self.seed!r}")
-        ppt = self.players_per_team
-        if not isinstance(ppt, int) or not 1 <= ppt <= MAX_PLAYERS_PER_TEAM:
-            raise ValueError(
-                f"MatchConfig.players_per_team must be an integer in 1..{MAX_PLAYERS_PER_TEAM}, got {ppt!r}"
-            )
-        check_choice("MatchConfig", "field", self.field, FIELD_PRESETS)
-        check_choice("MatchConfig", "colours", self.colours, COLOUR_SCHEMES)
-        check_positive("MatchConfig", cognition_hz=self.cognition_hz)
-        check_choice("MatchConfig", "observation", self.observation, OBSERVATIONS)
         if isinstance(self.percepts, str):
             object.__setattr__(self, "percepts", PerceptParams.preset(self.percepts))
-        if not isinstance(self.percepts, PerceptParams):
-            raise TypeError(f"MatchConfig.percepts must be PerceptParams or a preset name, got {self.percepts!r}")
         if isinstance(self.images, str):
             object.__setattr__(self, "images", ImageParams.preset(self.images))
-        if not isinstance(self.images, ImageParams):
-            raise TypeError(f"MatchConfig.images must be ImageParams or a preset name, got {self.images!r}")
-        if not isinstance(self.camera, CameraRig):
-            raise TypeError(f"MatchConfig.camera must be a CameraRig, got {self.camera!r}")
+        lp = self.localization_params
+        if isinstance(lp, Mapping):
+            object.__setattr__(self, "localization_params", LocalizationParams.from_mapping(dict(lp)))
+        check_ranges(self)  # numbers, and every section an instance of its parameters class
+        check_choice("MatchConfig", "field", self.field, FIELD_PRESETS)
+        check_choice("MatchConfig", "colours", self.colours, COLOUR_SCHEMES)
+        check_choice("MatchConfig", "observation", self.observation, OBSERVATIONS)
         if self.localization is not None:
             check_choice("MatchConfig", "localization", self.localization, VARIANTS)
         check_choice("MatchConfig", "obstacle_model", self.obstacle_model, OBSTACLE_MODELS)
         check_choice("MatchConfig", "players", self.players, PLAYERS)
-        lp = self.localization_params
-        if isinstance(lp, Mapping):
-            object.__setattr__(self, "localization_params", LocalizationParams.from_mapping(dict(lp)))
-        elif not isinstance(lp, LocalizationParams):
-            raise TypeError(f"MatchConfig.localization_params must be LocalizationParams or a mapping, got {lp!r}")
         if self.cognition_hz > self.physics.physics_hz:
             raise ValueError(
                 f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
             )
-        for ev in self.events:
+        self._check_events()
+
+    def _check_events(self) -> None:
+        """Every event is a scripted event for a player of these teams, on this field's carpet."""
+        if not isinstance(self.events, tuple | list):
+            raise TypeError(f"MatchConfig.events must be a tuple of scripted events, got {self.events!r}")
+        dims = FIELD_PRESETS[self.field]
+        reach_x = dims.length / 2 + dims.border_strip
+        reach_y = dims.width / 2 + dims.border_strip
+        for i, ev in enumerate(self.events):
+            where = f"MatchConfig.events[{i}]"
             if not isinstance(ev, Kidnap | PlaceBall | ForcePenalty | ForceFall):
-                raise TypeError(f"unknown scripted event {ev!r}")
-            if hasattr(ev, "number") and ev.number > ppt:
-                raise ValueError(f"{type(ev).__name__} names player {ev.number} but teams have {ppt}")
+                raise TypeError(f"{where}: unknown scripted event {ev!r}")
+            if not isinstance(ev, PlaceBall) and ev.number > self.players_per_team:
+                raise ValueError(
+                    f"{where}: {type(ev).__name__} names player {ev.number} but teams have {self.players_per_team}"
+                )
+            spot = ev.pose[:2] if isinstance(ev, Kidnap) and ev.pose is not None else None
+            if isinstance(ev, PlaceBall):
+                spot = (ev.x, ev.y)
+            if spot is not None and not (abs(spot[0]) <= reach_x and abs(spot[1]) <= reach_y):
+                raise ValueError(
+                    f"{where}: {type(ev).__name__} at ({spot[0]}, {spot[1]}) is off the carpet of the {self.field} "
+                    f"field (|x| <= {reach_x:g} m, |y| <= {reach_y:g} m)"
+                )
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any]) -> MatchConfig:

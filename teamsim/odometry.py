@@ -15,15 +15,18 @@ Ground truth (:class:`TrueOdometry`) and the report (:class:`cognition.represent
 OdometryReading`) are different types; only the report reaches a brain. All motions are in
 the robot frame of the previous cognition frame (dx forward m, dy left m, dtheta rad).
 
-=========================  =======  =========================================================
-parameter                  default  meaning
-=========================  =======  =========================================================
-trans_noise                0.08     sigma of dx (dy) per metre of |dx| (|dy|)
-rot_noise                  0.10     sigma of dtheta per radian of |dtheta|
-sideways_rot_noise         0.20     sigma of dtheta (rad) per metre of |dy|
-drift_sigma                0.03     sigma of the per-robot rotation bias (rad per metre walked)
-scale_sigma                0.03     sigma of the per-robot relative step-length error
-=========================  =======  =========================================================
+=========================  =======  =========  =========================================================
+parameter                  default  range      meaning
+=========================  =======  =========  =========================================================
+trans_noise                0.08     [0, 10]    sigma of dx (dy) per metre of |dx| (|dy|)
+rot_noise                  0.10     [0, 10]    sigma of dtheta per radian of |dtheta|
+sideways_rot_noise         0.20     [0, 100]   sigma of dtheta (rad) per metre of |dy|
+drift_sigma                0.03     [0, 10]    sigma of the per-robot rotation bias (rad per metre walked)
+scale_sigma                0.03     [0, 1]     sigma of the per-robot relative step-length error
+=========================  =======  =========  =========================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 
 The filter-side motion model (CMU: sigma 0.3 / 0.4) is deliberately larger than these
 values, as both papers recommend modelling odometry worse than it is.
@@ -33,11 +36,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from cognition.representations import OdometryReading
-from teamsim.params import check_non_negative
+from teamsim.params import Ranges, check_ranges, non_negative
 
 
 @dataclass(frozen=True)
@@ -59,15 +63,16 @@ class OdometryParams:
     drift_sigma: float = 0.03
     scale_sigma: float = 0.03
 
+    RANGES: ClassVar[Ranges] = {
+        "trans_noise": non_negative(10.0),
+        "rot_noise": non_negative(10.0),
+        "sideways_rot_noise": non_negative(100.0),
+        "drift_sigma": non_negative(10.0),
+        "scale_sigma": non_negative(1.0),
+    }
+
     def __post_init__(self) -> None:
-        check_non_negative(
-            "OdometryParams",
-            trans_noise=self.trans_noise,
-            rot_noise=self.rot_noise,
-            sideways_rot_noise=self.sideways_rot_noise,
-            drift_sigma=self.drift_sigma,
-            scale_sigma=self.scale_sigma,
-        )
+        check_ranges(self)
 
 
 class OdometryModel:

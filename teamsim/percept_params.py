@@ -13,44 +13,58 @@ robots 0.6 up to 4 m, ball false positives 0.0005, penalty-mark false positives 
 the angular sigmas are NAO-scale values in the range the Darmstadt comparison spans
 (fixed 5 and 15 degrees in its Table I).
 
-=========================  ===============  ===============================================
-parameter                  default          meaning
-=========================  ===============  ===============================================
-sigma_alpha_base           1.0 deg          base sigma around the pitch axis (eq. 3)
-sigma_beta_base            1.0 deg          base sigma around the yaw axis (eq. 4)
-c_tilt, c_pan              0.03 s           head-motion factors (eq. 5): sigma += c |rate|
-sigma_alpha_moving         3.0 deg          added while walking (eq. 6)
-sigma_beta_moving          2.0 deg          added while walking (eq. 6)
-shared_noise_fraction      0.5              share of the angular variance common to all
-                                            percepts of one image (camera-pose error)
-reported_sigma             adaptive         sigmas written into the percepts: ``adaptive``
-                                            (the model above) or ``fixed`` (Table I style)
-fixed_sigma                5 deg            the reported sigma in ``fixed`` mode
-orientation_sigma          5 deg            noise of crossing orientations
-ball_radius_sigma_px       0.6 px           noise of the ball's image radius
-post ... pole              Detection        per kind: rate, full_range, max_range (below)
-circle_min_visible         0.25             visible fraction of the circle needed
-min_line_length            0.10 m           shorter line pieces are not reported
-head_speed_detection       0.1 s/rad        detection / (1 + k |head rate|)
-walking_detection          0.9              detection factor while walking
-ball_speed_detection       0.15 s/m         ball detection / (1 + k |ball speed|)
-max_occlusion              0.5              objects hidden more than this are not seen
-phantom_crossing_rate      0.02             false crossings per image
-phantom_mark_rate          0.005            false penalty marks per image
-background_post_rate       0.01             false posts beyond the field per image
-feet_ball_rate             0.01             false ball at a seen robot's feet, per robot
-false_ball_rate            0.0005           false ball anywhere on the seen ground per image
-crossing_confusion         0.1              probability of reporting the wrong L/T/X type
-robot_team_unknown         0.1              robot percepts without a team guess
-robot_team_wrong           0.03             robot percepts with the wrong team
-latency                    0.04 s           image capture to sensor frame
-robot_height               0.58 m           standing robot (occludes everything behind)
-fallen_height              0.20 m           lying robot (short shadow)
-=========================  ===============  ===============================================
+=========================  ===============  ===========  ===============================================
+parameter                  default          range        meaning
+=========================  ===============  ===========  ===============================================
+sigma_alpha_base           1.0 deg          [0, pi/2]    base sigma around the pitch axis (eq. 3)
+sigma_beta_base            1.0 deg          [0, pi/2]    base sigma around the yaw axis (eq. 4)
+c_tilt                     0.03 s           [0, 10]      head-motion factors (eq. 5): sigma += c |rate|,
+c_pan                      0.03 s           [0, 10]      tilt on the pitch rate, pan on the yaw rate
+sigma_alpha_moving         3.0 deg          [0, pi/2]    added while walking (eq. 6)
+sigma_beta_moving          2.0 deg          [0, pi/2]    added while walking (eq. 6)
+shared_noise_fraction      0.5              [0, 1]       share of the angular variance common to all
+                                                         percepts of one image (camera-pose error)
+reported_sigma             adaptive                      sigmas written into the percepts: ``adaptive``
+                                                         (the model above) or ``fixed`` (Table I style)
+fixed_sigma                5 deg            [0, pi/2]    the reported sigma in ``fixed`` mode
+orientation_sigma          5 deg            [0, pi]      noise of crossing orientations
+ball_radius_sigma_px       0.6 px           [0, 100]     noise of the ball's image radius
+post ... pole              Detection                     per kind: rate, full_range, max_range (below)
+circle_min_visible         0.25             [0, 1]       visible fraction of the circle needed
+min_line_length            0.10 m           [0, 100]     shorter line pieces are not reported
+head_speed_detection       0.1 s/rad        [0, 100]     detection / (1 + k |head rate|)
+walking_detection          0.9              [0, 1]       detection factor while walking
+ball_speed_detection       0.15 s/m         [0, 100]     ball detection / (1 + k |ball speed|)
+max_occlusion              0.5              [0, 1]       objects hidden more than this are not seen
+phantom_crossing_rate      0.02             [0, 1]       false crossings per image
+phantom_mark_rate          0.005            [0, 1]       false penalty marks per image
+background_post_rate       0.01             [0, 1]       false posts beyond the field per image
+feet_ball_rate             0.01             [0, 1]       false ball at a seen robot's feet, per robot
+false_ball_rate            0.0005           [0, 1]       false ball anywhere on the seen ground per image
+crossing_confusion         0.1              [0, 1]       probability of reporting the wrong L/T/X type
+robot_team_unknown         0.1              [0, 1]       robot percepts without a team guess
+robot_team_wrong           0.03             [0, 1]       robot percepts with the wrong team (the two
+                                                         shares add up to at most 1)
+latency                    0.04 s           [0, 2]       image capture to sensor frame
+robot_height               0.58 m           (0, 3]       standing robot (occludes everything behind)
+fallen_height              0.20 m           [0, 3]       lying robot (short shadow)
+=========================  ===============  ===========  ===============================================
 
 Detection probability of a visible feature at ground distance ``d`` from the camera:
 ``rate`` up to ``full_range``, falling linearly to 0 at ``max_range``, times the motion
 factors and, for the ball, posts and robots, the visible (not occluded) fraction.
+
+=========================  ===========  ==================================================
+Detection                  range        meaning
+=========================  ===========  ==================================================
+rate                       [0, 1]       detection probability up to ``full_range``
+full_range                 (0, 100]     distance (m) up to which ``rate`` applies
+max_range                  (0, 100]     distance (m) from which nothing is detected;
+                                        ``max_range >= full_range``
+=========================  ===========  ==================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
@@ -62,7 +76,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from teamsim.params import check_choice, check_non_negative, check_positive, check_probability
+from teamsim.params import PROBABILITY, Ranges, check_choice, check_ranges, non_negative, positive
 
 _DEG = math.pi / 180.0
 
@@ -78,9 +92,10 @@ class Detection:
     max_range: float = 6.0
     """Distance from which the feature is never detected (m); linear in between."""
 
+    RANGES: ClassVar[Ranges] = {"rate": PROBABILITY, "full_range": positive(100.0), "max_range": positive(100.0)}
+
     def __post_init__(self) -> None:
-        check_probability("Detection", rate=self.rate)
-        check_positive("Detection", full_range=self.full_range, max_range=self.max_range)
+        check_ranges(self)
         if self.max_range < self.full_range:
             raise ValueError(f"Detection.max_range ({self.max_range}) must be >= full_range ({self.full_range})")
 
@@ -139,49 +154,41 @@ class PerceptParams:
 
     PRESETS: ClassVar[dict[str, PerceptParams]]
 
+    RANGES: ClassVar[Ranges] = {
+        "sigma_alpha_base": non_negative(math.pi / 2),
+        "sigma_beta_base": non_negative(math.pi / 2),
+        "c_tilt": non_negative(10.0),
+        "c_pan": non_negative(10.0),
+        "sigma_alpha_moving": non_negative(math.pi / 2),
+        "sigma_beta_moving": non_negative(math.pi / 2),
+        "shared_noise_fraction": PROBABILITY,
+        "fixed_sigma": non_negative(math.pi / 2),
+        "orientation_sigma": non_negative(math.pi),
+        "ball_radius_sigma_px": non_negative(100.0),
+        "circle_min_visible": PROBABILITY,
+        "min_line_length": non_negative(100.0),
+        "head_speed_detection": non_negative(100.0),
+        "walking_detection": PROBABILITY,
+        "ball_speed_detection": non_negative(100.0),
+        "max_occlusion": PROBABILITY,
+        "phantom_crossing_rate": PROBABILITY,
+        "phantom_mark_rate": PROBABILITY,
+        "background_post_rate": PROBABILITY,
+        "feet_ball_rate": PROBABILITY,
+        "false_ball_rate": PROBABILITY,
+        "crossing_confusion": PROBABILITY,
+        "robot_team_unknown": PROBABILITY,
+        "robot_team_wrong": PROBABILITY,
+        "latency": non_negative(2.0),
+        "robot_height": positive(3.0),
+        "fallen_height": non_negative(3.0),
+    }
+
     def __post_init__(self) -> None:
-        o = "PerceptParams"
-        check_non_negative(
-            o,
-            sigma_alpha_base=self.sigma_alpha_base,
-            sigma_beta_base=self.sigma_beta_base,
-            c_tilt=self.c_tilt,
-            c_pan=self.c_pan,
-            sigma_alpha_moving=self.sigma_alpha_moving,
-            sigma_beta_moving=self.sigma_beta_moving,
-            fixed_sigma=self.fixed_sigma,
-            orientation_sigma=self.orientation_sigma,
-            ball_radius_sigma_px=self.ball_radius_sigma_px,
-            min_line_length=self.min_line_length,
-            head_speed_detection=self.head_speed_detection,
-            ball_speed_detection=self.ball_speed_detection,
-            latency=self.latency,
-            fallen_height=self.fallen_height,
-        )
-        check_positive(o, robot_height=self.robot_height)
-        check_probability(
-            o,
-            shared_noise_fraction=self.shared_noise_fraction,
-            circle_min_visible=self.circle_min_visible,
-            walking_detection=self.walking_detection,
-            max_occlusion=self.max_occlusion,
-            phantom_crossing_rate=self.phantom_crossing_rate,
-            phantom_mark_rate=self.phantom_mark_rate,
-            background_post_rate=self.background_post_rate,
-            feet_ball_rate=self.feet_ball_rate,
-            false_ball_rate=self.false_ball_rate,
-            crossing_confusion=self.crossing_confusion,
-            robot_team_unknown=self.robot_team_unknown,
-            robot_team_wrong=self.robot_team_wrong,
-        )
-        check_choice(o, "reported_sigma", self.reported_sigma, ("adaptive", "fixed"))
+        check_ranges(self)
+        check_choice("PerceptParams", "reported_sigma", self.reported_sigma, ("adaptive", "fixed"))
         if self.robot_team_unknown + self.robot_team_wrong > 1.0:
             raise ValueError("PerceptParams.robot_team_unknown + robot_team_wrong must not exceed 1")
-        for k in _KINDS:
-            if not isinstance(getattr(self, k), Detection):
-                raise TypeError(f"PerceptParams.{k} must be a Detection, got {getattr(self, k)!r}")
-        if self.fixed_sigma > 0.5 * math.pi or self.orientation_sigma > math.pi:
-            raise ValueError("PerceptParams.fixed_sigma must be <= pi/2 and orientation_sigma <= pi")
 
     @classmethod
     def preset(cls, name: str) -> PerceptParams:

@@ -28,6 +28,28 @@ removed from the field, waits ``penalty_seconds`` and is placed back by the retu
 
 Manual placement: robots placed by the referee are carried, so their ``picked_up`` signal
 is on for ``carry_seconds``.
+
+Parameters (:class:`RefereeParams`, seconds). Every number is checked against its range when
+the parameters are built (:func:`cognition.params.check_ranges`):
+
+====================  ==========  ============  ==========================================================
+parameter             default     range         meaning
+====================  ==========  ============  ==========================================================
+half_seconds          600         (0, 86400]    length of a half on the game clock (runs in PLAYING)
+halftime_seconds      10          [0, 3600]     break between the halves (in FINISHED)
+initial_seconds       2           [0, 3600]     time in INITIAL
+standby_seconds       0           [0, 3600]     time in STANDBY (0: no STANDBY)
+ready_seconds         45          (0, 3600]     longest READY (earlier when every robot stands still)
+set_seconds           5           (0, 3600]     time in SET
+kickoff_free_seconds  10          [0, 3600]     after a kickoff only the kicking team may play the ball
+set_play_seconds      30          [0, 3600]     length of a set play
+penalty_seconds       45          (0, 3600]     time a penalised robot stays removed
+carry_seconds         1.5         [0, 3600]     ``picked_up`` time of a robot the referee places
+rules                 spl2025                   ``spl2025`` or ``spl2010`` (return rule, illegal SET positions)
+set_position_rule     auto                      ``auto`` (by ``rules``), ``place`` or ``penalize``
+fouls                 FoulParams                thresholds of the automatic fouls (:mod:`teamsim.fouls`)
+team_numbers          (1, 2)      [1, 255]      GameController team numbers of team 0 and 1 (different)
+====================  ==========  ============  ==========================================================
 """
 
 from __future__ import annotations
@@ -35,7 +57,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import ClassVar, Literal
 
 from cognition.field import Field
 from cognition.gamestate import (
@@ -49,7 +71,7 @@ from cognition.gamestate import (
 from cognition.positions import kickoff_position
 from teamsim.events import EventLog
 from teamsim.fouls import FoulDetector, FoulParams
-from teamsim.params import check_choice, check_non_negative, check_positive
+from teamsim.params import Range, Ranges, check_choice, check_ranges, non_negative, positive
 from teamsim.placement import (
     RETURN_RULES,
     attack_sign,
@@ -88,23 +110,22 @@ class RefereeParams:
     fouls: FoulParams = field(default_factory=FoulParams)
     team_numbers: tuple[int, int] = (1, 2)
 
+    RANGES: ClassVar[Ranges] = {
+        "half_seconds": positive(86_400.0),
+        "halftime_seconds": non_negative(3600.0),
+        "initial_seconds": non_negative(3600.0),
+        "standby_seconds": non_negative(3600.0),
+        "ready_seconds": positive(3600.0),
+        "set_seconds": positive(3600.0),
+        "kickoff_free_seconds": non_negative(3600.0),
+        "set_play_seconds": non_negative(3600.0),
+        "penalty_seconds": positive(3600.0),
+        "carry_seconds": non_negative(3600.0),
+        "team_numbers": Range(1, 255),
+    }
+
     def __post_init__(self) -> None:
-        check_positive(
-            "RefereeParams",
-            half_seconds=self.half_seconds,
-            ready_seconds=self.ready_seconds,
-            set_seconds=self.set_seconds,
-            penalty_seconds=self.penalty_seconds,
-        )
-        check_non_negative(
-            "RefereeParams",
-            halftime_seconds=self.halftime_seconds,
-            initial_seconds=self.initial_seconds,
-            standby_seconds=self.standby_seconds,
-            kickoff_free_seconds=self.kickoff_free_seconds,
-            set_play_seconds=self.set_play_seconds,
-            carry_seconds=self.carry_seconds,
-        )
+        check_ranges(self)
         check_choice("RefereeParams", "rules", self.rules, RETURN_RULES)
         check_choice(
             "RefereeParams",
@@ -112,11 +133,8 @@ class RefereeParams:
             self.set_position_rule,
             ("auto", "place", "penalize"),
         )
-        a, b = self.team_numbers
-        if a == b or not (0 < a < 256 and 0 < b < 256):
-            raise ValueError(
-                f"RefereeParams.team_numbers must be two different numbers in 1..255, got {self.team_numbers}"
-            )
+        if self.team_numbers[0] == self.team_numbers[1]:
+            raise ValueError(f"RefereeParams.team_numbers must be two different numbers, got {self.team_numbers}")
 
     @property
     def penalize_illegal_set(self) -> bool:

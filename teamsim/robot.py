@@ -7,47 +7,54 @@ bounds act as floor friction, so a robot that is pushed hard enough slides.
 
 Parameters (:class:`RobotParams`, SI units, robot frame: +x forward, +y left):
 
-=======================  ========  ============================================================
-parameter                default   meaning
-=======================  ========  ============================================================
-radius                   0.14 m    collision radius of the body
-mass                     5.3 kg    NAO V6 mass
-max_forward              0.25 m/s  walking speed limits (NAO-like)
-max_backward             0.15 m/s
-max_sideways             0.15 m/s
-max_turn                 1.0 rad/s
-max_linear_accel         0.5 m/s2  acceleration limit of the walking engine
-max_angular_accel        3.0 rad/s2
-floor_force              40 N      pivot force limit (floor friction)
-floor_torque             8 N m     gear torque limit
-kick_reach               0.12 m    gap between body and ball within which a kick connects
-kick_half_angle          0.7 rad   ball bearing window for a kick
-kick_duration            0.8 s     the kick motion blocks walking for this long
-kick_max_speed           3.0 m/s   ball speed of a full-strength kick
-kick_direction_sigma     0.1 rad   noise of the kick direction
-kick_strength_sigma      0.1       relative noise of the kick speed
-kick_max_angle           1.05 rad  largest ball direction a kick can reach (robot frame)
-fall_speed_threshold     0.45 m/s  impact speed above which a collision may topple the robot
-fall_probability_slope   1.2 s/m   fall probability per m/s of impact speed above threshold
-getup_mean, getup_sigma  4.0, 0.7 s  time to get up (normal, clipped to >= getup_min)
-getup_min                2.5 s
-head_yaw_limit           2.0857 rad  NAO head yaw limit (both sides)
-head_pitch_min/max       -0.672 / 0.515 rad
-head_max_speed           8.0 rad/s
-=======================  ========  ============================================================
+========================  ============  ==================  =======================================================
+parameter                 default       range               meaning
+========================  ============  ==================  =======================================================
+radius                    0.14 m        (0, 1]              collision radius of the body
+mass                      5.3 kg        (0, 1000]           NAO V6 mass
+max_forward               0.25 m/s      (0, 10]             walking speed limits (NAO-like)
+max_backward              0.15 m/s      (0, 10]
+max_sideways              0.15 m/s      (0, 10]
+max_turn                  1.0 rad/s     (0, 20]
+max_linear_accel          0.5 m/s2      (0, 100]            acceleration limit of the walking engine
+max_angular_accel         3.0 rad/s2    (0, 1000]
+floor_force               40 N          (0, 100000]         pivot force limit (floor friction)
+floor_torque              8 N m         (0, 10000]          gear torque limit
+kick_reach                0.12 m        [0, 1]              gap between body and ball within which a kick connects
+kick_half_angle           0.7 rad       (0, pi]             ball bearing window for a kick
+kick_duration             0.8 s         (0, 10]             the kick motion blocks walking for this long
+kick_max_speed            3.0 m/s       (0, 20]             ball speed of a full-strength kick
+kick_direction_sigma      0.1 rad       [0, pi]             noise of the kick direction
+kick_strength_sigma       0.1           [0, 1]              relative noise of the kick speed
+kick_max_angle            1.05 rad      [0, pi]             largest ball direction a kick can reach (robot frame)
+fall_speed_threshold      0.45 m/s      [0, 100]            impact speed above which a collision may topple the robot
+fall_probability_slope    1.2 s/m       [0, 1000]           fall probability per m/s of impact speed above threshold
+getup_mean                4.0 s         (0, 600]            time to get up: normal with this mean and sigma,
+getup_sigma               0.7 s         [0, 600]            clipped to >= getup_min
+getup_min                 2.5 s         (0, 600]
+head_yaw_limit            2.0857 rad    [0, pi]             NAO head yaw limit (both sides)
+head_pitch_min            -0.672 rad    [-pi/2, pi/2]       NAO head pitch limits (positive looks down);
+head_pitch_max            0.515 rad     [-pi/2, pi/2]       head_pitch_min <= head_pitch_max
+head_max_speed            8.0 rad/s     (0, 100]
+========================  ============  ==================  =======================================================
+
+Every value is checked against its range when the parameters are built
+(:func:`cognition.params.check_ranges`); a value outside it, a non-number, NaN or infinity
+raises an error naming the field.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import pymunk
 
 from cognition.geometry import wrap_angle
 from cognition.representations import HeadRequest, HeadState, KickRequest, WalkRequest
-from teamsim.params import check_positive
+from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
 
 COLLISION_ROBOT = 1
 COLLISION_BALL = 2
@@ -86,25 +93,42 @@ class RobotParams:
     head_pitch_max: float = 0.515
     head_max_speed: float = 8.0
 
+    RANGES: ClassVar[Ranges] = {
+        "radius": positive(1.0),
+        "mass": positive(1000.0),
+        "max_forward": positive(10.0),
+        "max_backward": positive(10.0),
+        "max_sideways": positive(10.0),
+        "max_turn": positive(20.0),
+        "max_linear_accel": positive(100.0),
+        "max_angular_accel": positive(1000.0),
+        "floor_force": positive(100_000.0),
+        "floor_torque": positive(10_000.0),
+        "kick_reach": non_negative(1.0),
+        "kick_half_angle": positive(math.pi),
+        "kick_duration": positive(10.0),
+        "kick_max_speed": positive(20.0),
+        "kick_direction_sigma": non_negative(math.pi),
+        "kick_strength_sigma": non_negative(1.0),
+        "kick_max_angle": non_negative(math.pi),
+        "fall_speed_threshold": non_negative(100.0),
+        "fall_probability_slope": non_negative(1000.0),
+        "getup_mean": positive(600.0),
+        "getup_sigma": non_negative(600.0),
+        "getup_min": positive(600.0),
+        "head_yaw_limit": non_negative(math.pi),
+        "head_pitch_min": Range(-math.pi / 2, math.pi / 2),
+        "head_pitch_max": Range(-math.pi / 2, math.pi / 2),
+        "head_max_speed": positive(100.0),
+    }
+
     def __post_init__(self) -> None:
-        check_positive(
-            "RobotParams",
-            radius=self.radius,
-            mass=self.mass,
-            max_forward=self.max_forward,
-            max_backward=self.max_backward,
-            max_sideways=self.max_sideways,
-            max_turn=self.max_turn,
-            max_linear_accel=self.max_linear_accel,
-            max_angular_accel=self.max_angular_accel,
-            floor_force=self.floor_force,
-            floor_torque=self.floor_torque,
-            kick_duration=self.kick_duration,
-            kick_max_speed=self.kick_max_speed,
-            getup_mean=self.getup_mean,
-            getup_min=self.getup_min,
-            head_max_speed=self.head_max_speed,
-        )
+        check_ranges(self)
+        if self.head_pitch_min > self.head_pitch_max:
+            raise ValueError(
+                f"RobotParams.head_pitch_min ({self.head_pitch_min}) must not exceed head_pitch_max "
+                f"({self.head_pitch_max})"
+            )
 
 
 def compose(acc: tuple[float, float, float], d: tuple[float, float, float]) -> tuple[float, float, float]:

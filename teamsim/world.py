@@ -11,29 +11,29 @@ turns hard impacts into falls, and the referee reads the events for pushing evid
 World frame: metres and radians, origin at the field centre, x toward the goal that team 0
 attacks in the first half.
 
-=====================  ==========  ===================================================
-parameter              default     meaning
-=====================  ==========  ===================================================
-physics_hz             100         physics steps per simulated second
-substeps               2           pymunk sub-steps per physics step
-ball_mass              0.045 kg    SPL ball
-ball_rolling_decel     1.0 m/s2    constant deceleration of a rolling ball (turf)
-ball_elasticity        0.5         restitution against posts, nets and border
-robot                  RobotParams body and motion parameters of every robot
-=====================  ==========  ===================================================
+=====================  ==========  ===========  ===================================================
+parameter              default     range        meaning
+=====================  ==========  ===========  ===================================================
+physics_hz             100         [10, 10000]  physics steps per simulated second
+substeps               2           [1, 20]      pymunk sub-steps per physics step
+ball_mass              0.045 kg    (0, 10]      SPL ball
+ball_rolling_decel     1.0 m/s2    (0, 100]     constant deceleration of a rolling ball (turf)
+ball_elasticity        0.5         [0, 1]       restitution against posts, nets and border
+robot                  RobotParams              body and motion parameters of every robot
+=====================  ==========  ===========  ===================================================
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 import pymunk
 
 from cognition.field import Field
-from teamsim.params import check_positive
+from teamsim.params import PROBABILITY, Range, Ranges, check_ranges, positive
 from teamsim.robot import (
     COLLISION_BALL,
     COLLISION_POST,
@@ -56,17 +56,16 @@ class PhysicsParams:
     ball_elasticity: float = 0.5
     robot: RobotParams = field(default_factory=RobotParams)
 
+    RANGES: ClassVar[Ranges] = {
+        "physics_hz": Range(10.0, 10_000.0),
+        "substeps": Range(1, 20),
+        "ball_mass": positive(10.0),
+        "ball_rolling_decel": positive(100.0),
+        "ball_elasticity": PROBABILITY,
+    }
+
     def __post_init__(self) -> None:
-        check_positive(
-            "PhysicsParams",
-            physics_hz=self.physics_hz,
-            ball_mass=self.ball_mass,
-            ball_rolling_decel=self.ball_rolling_decel,
-        )
-        if not isinstance(self.substeps, int) or not 1 <= self.substeps <= 20:
-            raise ValueError(f"PhysicsParams.substeps must be an integer in 1..20, got {self.substeps!r}")
-        if not 0.0 <= self.ball_elasticity <= 1.0:
-            raise ValueError("PhysicsParams.ball_elasticity must be in [0, 1]")
+        check_ranges(self)
 
 
 RobotId = tuple[int, int]

@@ -129,7 +129,7 @@ def test_channel_rejects_bad_messages() -> None:
         ch.send(0, 1, bytes(129), 0.0)
     with pytest.raises(TypeError, match="bytes"):
         ch.send(0, 1, "text", 0.0)  # type: ignore[arg-type]
-    with pytest.raises(ValueError, match="probability"):
+    with pytest.raises(ValueError, match=r"ChannelParams\.loss must be a real number in \[0, 1\], got 1\.5"):
         ChannelParams(loss=1.5)
 
 
