@@ -21,14 +21,17 @@ images      reserved: camera images through a vision pipeline, with the image in
 Reward terms (per agent and step; :class:`RewardWeights` scales them, read from ground truth,
 which is fine for a training signal; the policy never sees it):
 
-=============  ==============================================================================
-term           value
-=============  ==============================================================================
-goal           +1 when the agent's team scores, -1 when it concedes
-ball_progress  metres the ball moved toward the opponent goal (team frame x) while PLAYING
-ball_approach  metres the agent came closer to the ball while PLAYING
-penalty        -1 when the agent is penalised (left the field, pushing, ...)
-=============  ==============================================================================
+=============  ==============  ==============================================================================
+term           weight range    value
+=============  ==============  ==============================================================================
+goal           [-1000, 1000]   +1 when the agent's team scores, -1 when it concedes
+ball_progress  [-1000, 1000]   metres the ball moved toward the opponent goal (team frame x) while PLAYING
+ball_approach  [-1000, 1000]   metres the agent came closer to the ball while PLAYING
+penalty        [-1000, 1000]   -1 when the agent is penalised (left the field, pushing, ...)
+=============  ==============  ==============================================================================
+
+The weights and the numbers of :class:`EnvConfig` (ranges in the :mod:`envs.soccer_v0`
+argument table) are checked when they are built (:func:`cognition.params.check_ranges`).
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -49,7 +52,8 @@ from cognition.gamestate import GameStateId, SetPlay
 from cognition.localization import VARIANTS
 from cognition.positions import kickoff_position
 from cognition.worldmodel.beliefs import CognitionBeliefs
-from teamsim.match import Match, MatchConfig
+from teamsim.match import MAX_PLAYERS_PER_TEAM, Match, MatchConfig
+from teamsim.params import Range, Ranges, check_ranges, positive
 from teamsim.placement import team_to_world
 from teamsim.referee import RefereeParams
 from teamsim.render import TopDownRenderer, VideoWriter
@@ -71,11 +75,15 @@ class RewardWeights:
     ball_approach: float = 0.0
     penalty: float = 0.2
 
+    RANGES: ClassVar[Ranges] = {
+        "goal": Range(-1000.0, 1000.0),
+        "ball_progress": Range(-1000.0, 1000.0),
+        "ball_approach": Range(-1000.0, 1000.0),
+        "penalty": Range(-1000.0, 1000.0),
+    }
+
     def __post_init__(self) -> None:
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if not isinstance(v, int | float) or not math.isfinite(v):
-                raise ValueError(f"RewardWeights.{f.name} must be a finite number, got {v!r}")
+        check_ranges(self)
 
     @classmethod
     def from_any(cls, value: RewardWeights | Mapping[str, float] | None) -> RewardWeights:
@@ -90,7 +98,7 @@ class RewardWeights:
         for k in value:
             if k not in known:
                 raise ValueError(f"unknown reward term {k!r}; valid: {known}")
-        return cls(**{k: float(v) for k, v in value.items()})
+        return cls(**value)
 
 
 @dataclass(frozen=True)
@@ -114,10 +122,15 @@ class EnvConfig:
     render_path: str = "soccer_v0.mp4"
     percepts: str = "default"
 
+    RANGES: ClassVar[Ranges] = {
+        "players_per_team": Range(1, MAX_PLAYERS_PER_TEAM),
+        "decision_hz": positive(1000.0),
+        "cognition_hz": positive(1000.0),
+        "half_seconds": positive(86_400.0),
+        "max_cycles": Range(1, 10**9),
+    }
+
     def __post_init__(self) -> None:
-        ppt = self.players_per_team
-        if not isinstance(ppt, int) or not 1 <= ppt <= 7:
-            raise ValueError(f"players_per_team must be an integer in 1..7, got {ppt!r}")
         for name, value, valid in (
             ("control", self.control, CONTROL),
             ("observation", self.observation, OBSERVATION_MODES),
@@ -138,17 +151,12 @@ class EnvConfig:
         if self.cognition_hz is None:
             # the filters of the cognition stack run at 30 Hz; the oracle needs no more than the decisions
             object.__setattr__(self, "cognition_hz", self.decision_hz if self.observation == "truth" else 30.0)
-        for name in ("decision_hz", "cognition_hz", "half_seconds"):
-            v = getattr(self, name)
-            if not isinstance(v, int | float) or not math.isfinite(v) or v <= 0:
-                raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+        check_ranges(self)
         ratio = self.cognition_hz / self.decision_hz  # type: ignore[operator]
         if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
             raise ValueError(
                 f"cognition_hz ({self.cognition_hz}) must be a whole multiple of decision_hz ({self.decision_hz})"
             )
-        if not isinstance(self.max_cycles, int) or self.max_cycles < 1:
-            raise ValueError(f"max_cycles must be an integer >= 1, got {self.max_cycles!r}")
         object.__setattr__(self, "reward_weights", RewardWeights.from_any(self.reward_weights))
 
     @property

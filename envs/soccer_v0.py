@@ -37,19 +37,19 @@ on. A finished agent's AEC step takes ``None``; anything else is a ``ValueError`
 
 | argument | default | meaning |
 |---|---|---|
-| ``players_per_team`` | 5 | robots per team, 1..7 |
+| ``players_per_team`` | 5 | robots per team, in [1, 7] |
 | ``control`` | ``home`` | agents: ``home``, ``away`` or ``both`` teams |
 | ``observation`` | ``percepts`` | ``percepts`` or ``truth``; ``images`` is reserved for the vision milestone (refused with an explanation) |
 | ``localization`` | ``maturing`` | localization variant in ``percepts`` mode (``cognition.localization.VARIANTS``) |
 | ``obstacle_model`` | ``sectors`` | world-model obstacle variant (``sectors`` or ``grid``) |
 | ``action_type`` | ``continuous`` | ``continuous`` or ``discrete`` |
-| ``decision_hz`` | 10 | decisions per simulated second |
-| ``cognition_hz`` | None | cognition frames per second, a whole multiple of ``decision_hz``; None: 30 with ``percepts`` (the filters' rate), ``decision_hz`` with ``truth`` |
-| ``half_seconds`` | 300 | length of a half (s) |
-| ``max_cycles`` | 3000 | decisions before truncation |
+| ``decision_hz`` | 10 | decisions per simulated second, in (0, 1000] |
+| ``cognition_hz`` | None | cognition frames per second, in (0, 1000] and a whole multiple of ``decision_hz``; None: 30 with ``percepts`` (the filters' rate), ``decision_hz`` with ``truth`` |
+| ``half_seconds`` | 300 | length of a half (s), in (0, 86400] |
+| ``max_cycles`` | 3000 | decisions before truncation, in [1, 1000000000] |
 | ``start`` | ``kickoff`` | ``kickoff`` (INITIAL, READY, SET as in a game) or ``playing`` (robots at kickoff positions, play starts at once) |
 | ``opponents`` | ``scripted`` | robots of uncontrolled teams: ``scripted`` or ``random`` (random walkers) |
-| ``reward_weights`` | goal 1, ball_progress 0.05, ball_approach 0, penalty 0.2 | mapping term -> weight; unknown terms are an error |
+| ``reward_weights`` | goal 1, ball_progress 0.05, ball_approach 0, penalty 0.2 | mapping term -> weight, each in [-1000, 1000]; unknown terms are an error |
 | ``render_mode`` | None | ``rgb_array`` (``render()`` returns the top-down view) or ``human`` (every step writes a frame to ``render_path``; no display needed) |
 | ``render_path`` | ``soccer_v0.mp4`` | video file of ``human`` mode (``.mp4`` or ``.gif``) |
 | ``percepts`` | ``default`` | percept noise preset (``ideal``, ``default``, ``harsh``) |

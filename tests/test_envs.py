@@ -186,13 +186,13 @@ def test_out_of_range_continuous_actions_are_clipped() -> None:
         assert all(np.array_equal(o1[a], o2[a]) for a in o1)
 
 
-@pytest.mark.parametrize("bad", [7, -1, 2.5, np.nan, [1, 2]])
+@pytest.mark.parametrize("bad", [7, -1, 2.5, 2.0, True, "1", np.nan, [1, 2], np.array([1])])
 def test_bad_discrete_actions_are_rejected(bad: object) -> None:
     env = soccer_v0.parallel_env(**SMALL, observation="truth", action_type="discrete")
     env.reset(seed=1)
     with pytest.raises(ActionError):
         env.step({"home_1": 0, "home_2": bad})
-    env.step({"home_1": np.int64(1), "home_2": 2.0})  # numpy ints and whole floats are fine
+    env.step({"home_1": np.int64(1), "home_2": np.array(2)})  # numpy ints and 0-d int arrays, as Discrete takes
     assert env.core.cycles == 1
 
 

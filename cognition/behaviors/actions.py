@@ -2,7 +2,8 @@
 
 Two action types, shared by every agent of an environment:
 
-**continuous** (7 floats in [-1, 1]; values outside are clipped, NaN or infinity is an error):
+**continuous** (7 real numbers in [-1, 1], a float or integer array or a list of numbers;
+values outside are clipped; NaN, infinity, bool, str or complex entries are an error):
 
 =====  ====================================================================================
 index  meaning
@@ -16,7 +17,8 @@ index  meaning
 6      head pitch target, mapped from [-1, 1] to [``pitch_min``, ``pitch_max``] (rad)
 =====  ====================================================================================
 
-**discrete** (an integer in ``0..len(MACROS)-1``): macro-actions that run a scripted skill
+**discrete** (an integer in ``0..len(MACROS)-1``: ``int``, numpy integer or 0-d integer array,
+as ``gymnasium.spaces.Discrete`` accepts; no bool, no float such as ``2.0``): macro-actions that run a scripted skill
 (:mod:`cognition.behaviors.skills`) closed-loop on the latest beliefs until the next decision,
 with the head control of the scripted players (``scan`` forces a landmark scan):
 
@@ -34,12 +36,28 @@ index  name            skill
 5      support         hold a supporting spot relative to the ball
 6      scan            stand and sweep the head for landmarks
 =====  ==============  ====================================================================
+
+The continuous scales (:class:`ActionParams`; every value is checked against its range when
+the parameters are built, :func:`cognition.params.check_ranges`):
+
+============  =======  ==============  ==========================================================
+ActionParams  default  range           meaning
+============  =======  ==============  ==========================================================
+max_forward   0.25     (0, 10]         forward speed of action 1.0 (m/s)
+max_sideways  0.15     (0, 10]         sideways speed of action 1.0 (m/s)
+max_turn      1.0      (0, 20]         turn rate of action 1.0 (rad/s)
+kick_angle    1.05     (0, pi]         kick direction of action 1.0 (rad)
+head_yaw      2.0      (0, pi]         head yaw of action 1.0 (rad)
+pitch_min     -0.3     [-pi/2, pi/2]   head pitch of action -1.0 (rad; below pitch_max)
+pitch_max     0.5      [-pi/2, pi/2]   head pitch of action 1.0 (rad)
+============  =======  ==============  ==========================================================
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,7 +66,7 @@ from cognition.behaviors.message_budget import message_due
 from cognition.behaviors.observation import ObservationBuilder
 from cognition.brain import BrainContext
 from cognition.oracle import OracleInput
-from cognition.params import check_positive
+from cognition.params import Range, Ranges, check_ranges, positive
 from cognition.representations import BrainOutput, HeadRequest, KickRequest, MotionRequest, SensorFrame, WalkRequest
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, TruthBeliefs
 
@@ -76,11 +94,18 @@ class ActionParams:
     pitch_min: float = -0.3
     pitch_max: float = 0.5
 
+    RANGES: ClassVar[Ranges] = {
+        "max_forward": positive(10.0),
+        "max_sideways": positive(10.0),
+        "max_turn": positive(20.0),
+        "kick_angle": positive(math.pi),
+        "head_yaw": positive(math.pi),
+        "pitch_min": Range(-math.pi / 2, math.pi / 2),
+        "pitch_max": Range(-math.pi / 2, math.pi / 2),
+    }
+
     def __post_init__(self) -> None:
-        check_positive(
-            "ActionParams", max_forward=self.max_forward, max_sideways=self.max_sideways, max_turn=self.max_turn,
-            kick_angle=self.kick_angle, head_yaw=self.head_yaw,
-        )  # fmt: skip
+        check_ranges(self)
         if not self.pitch_min < self.pitch_max:
             raise ValueError(f"ActionParams.pitch_min ({self.pitch_min}) must be below pitch_max ({self.pitch_max})")
 
@@ -88,31 +113,55 @@ class ActionParams:
 def check_action(action: object, action_type: str) -> NDArray[np.float64] | int:
     """The action as the robot will use it: a clipped float vector or a macro index.
 
-    Raises :class:`ActionError` naming the problem for a wrong shape, a non-finite value or an
-    invalid macro index. Continuous values outside [-1, 1] are clipped (documented behaviour).
+    What is accepted follows the Gymnasium spaces' ``contains``:
+
+    * **discrete**: one integer in ``0..len(MACROS)-1``: a Python ``int``, a numpy integer
+      scalar or a 0-d integer array (what Stable-Baselines3 passes). ``bool``, floats (even
+      ``2.0``), strings and arrays of any other shape are refused;
+    * **continuous**: ``CONTINUOUS_SIZE`` finite real numbers, as a numpy array of a float or
+      integer dtype or a list or tuple of real numbers. ``bool``, ``str``, ``complex`` or
+      ``None`` entries (or arrays of those dtypes) are refused; values outside [-1, 1] are
+      clipped (documented behaviour).
+
+    Raises :class:`ActionError` naming the problem (wrong type, shape, a non-finite value, an
+    index out of range).
     """
     if action_type == "discrete":
-        a = np.asarray(action)
-        single = a.shape in ((), (1,))
-        if single and np.issubdtype(a.dtype, np.floating) and np.isfinite(a).all() and float(a.reshape(())) % 1 == 0:
-            a = a.astype(np.int64)  # a whole float such as 2.0 is accepted
-        if not single or not (np.issubdtype(a.dtype, np.integer) or a.dtype == bool):
-            raise ActionError(f"a discrete action must be one integer in 0..{len(MACROS) - 1}, got {action!r}")
-        k = int(a.reshape(()))
-        if not 0 <= k < len(MACROS):
-            raise ActionError(f"discrete action {k} is out of range 0..{len(MACROS) - 1} ({', '.join(MACROS)})")
-        return k
+        return _macro_index(action)
     if action_type != "continuous":
         raise ValueError(f"unknown action type {action_type!r}; valid: {list(ACTION_TYPES)}")
-    try:
+    want = f"a continuous action must be {CONTINUOUS_SIZE} real numbers"
+    if isinstance(action, np.ndarray):
+        if action.dtype.kind not in "fiu":
+            raise ActionError(f"{want}, got an array of dtype {action.dtype}")
+        v = action.astype(np.float64)
+    elif isinstance(action, list | tuple):
+        for i, x in enumerate(action):
+            if isinstance(x, bool | np.bool_) or not isinstance(x, int | float | np.integer | np.floating):
+                raise ActionError(f"{want}; entry {i} is {x!r} ({type(x).__name__})")
         v = np.asarray(action, dtype=np.float64)
-    except (TypeError, ValueError) as e:
-        raise ActionError(f"a continuous action must be {CONTINUOUS_SIZE} numbers, got {action!r}") from e
+    else:
+        raise ActionError(f"{want} (an array, list or tuple), got {action!r} ({type(action).__name__})")
     if v.shape != (CONTINUOUS_SIZE,):
         raise ActionError(f"a continuous action must have shape ({CONTINUOUS_SIZE},), got shape {v.shape}")
     if not np.all(np.isfinite(v)):
         raise ActionError(f"a continuous action must be finite, got {v.tolist()}")
     return np.clip(v, -1.0, 1.0)
+
+
+def _macro_index(action: object) -> int:
+    """The macro index of a discrete action (see :func:`check_action`)."""
+    zero_d = isinstance(action, np.ndarray) and action.shape == () and action.dtype.kind in "iu"
+    integer = isinstance(action, int | np.integer) and not isinstance(action, bool | np.bool_)
+    if not (integer or zero_d):
+        raise ActionError(
+            f"a discrete action must be one integer in 0..{len(MACROS) - 1} (an int, a numpy integer or a 0-d "
+            f"integer array), got {action!r} ({type(action).__name__})"
+        )
+    k = int(action)  # type: ignore[call-overload]
+    if not 0 <= k < len(MACROS):
+        raise ActionError(f"discrete action {k} is out of range 0..{len(MACROS) - 1} ({', '.join(MACROS)})")
+    return k
 
 
 def continuous_motion(a: NDArray[np.float64], p: ActionParams) -> MotionRequest:
