@@ -338,27 +338,6 @@ def numeric_fields(cls: type) -> dict[str, RangeSpec]:
     return {c.name: c.allowed for c in checks if c.allowed is not None}
 
 
-def check_positive(owner: str, **values: float) -> None:
-    """Raise ``ValueError`` unless every value is finite and strictly positive."""
-    for name, v in values.items():
-        if not isinstance(v, int | float) or not math.isfinite(v) or v <= 0:
-            raise ValueError(f"{owner}.{name} must be a finite number > 0, got {v!r}")
-
-
-def check_non_negative(owner: str, **values: float) -> None:
-    """Raise ``ValueError`` unless every value is finite and >= 0."""
-    for name, v in values.items():
-        if not isinstance(v, int | float) or not math.isfinite(v) or v < 0:
-            raise ValueError(f"{owner}.{name} must be a finite number >= 0, got {v!r}")
-
-
-def check_probability(owner: str, **values: float) -> None:
-    """Raise ``ValueError`` unless every value lies in [0, 1]."""
-    for name, v in values.items():
-        if not isinstance(v, int | float) or not 0.0 <= v <= 1.0:
-            raise ValueError(f"{owner}.{name} must be a probability in [0, 1], got {v!r}")
-
-
 def check_choice(owner: str, name: str, value: str, choices: typing.Iterable[str]) -> None:
     """Raise ``ValueError`` unless ``value`` is one of ``choices``."""
     options = tuple(choices)
