@@ -155,7 +155,8 @@ class EnvConfig:
         ratio = self.cognition_hz / self.decision_hz  # type: ignore[operator]
         if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
             raise ValueError(
-                f"cognition_hz ({self.cognition_hz}) must be a whole multiple of decision_hz ({self.decision_hz})"
+                f"EnvConfig.cognition_hz ({self.cognition_hz}) must be a whole multiple of decision_hz "
+                f"({self.decision_hz})"
             )
         object.__setattr__(self, "reward_weights", RewardWeights.from_any(self.reward_weights))
 
