@@ -42,6 +42,17 @@ field map: ``Field.goal_posts``, ``crossings``, ``lines``, ``penalty_marks``,
 ``corner_poles``; 0 for the circle and the ball; ``team * players + number - 1`` for
 robots, team 0 being the observer's team), -1 for a false positive. It exists for
 evaluation only: a brain must never read it.
+
+**Validation.** Percepts come from the simulator, from vision, from logs and from users, so
+:class:`Percepts` checks its input when it is built and raises :class:`PerceptError` (a
+``ValueError``) naming the row, kind and column of the first bad entry. Every row needs a
+finite ``x, y``, finite covariance entries with ``var_xx, var_yy >= 0``, finite angular
+sigmas ``>= 0`` and an integer ``subtype`` in its kind's range (post side 0..2, crossing
+kind 0..2, robot team 0..2, 0 for the other kinds); posts need ``goal`` in {-1, 0, 1},
+crossings a finite ``orientation``, lines finite end points ``x2, y2``, balls a
+``radius_px`` that is NaN (unknown) or finite and ``>= 0``. Pixels and ``truth`` are not
+checked (pixels may be NaN when a log has none). The offsets must describe the kinds'
+row ranges inside the table, in :class:`Kind` order.
 """
 
 from __future__ import annotations
@@ -235,6 +246,100 @@ class PerceptTable:
 _EMPTY = np.zeros((0, N_COLS))
 _EMPTY.setflags(write=False)
 _NO_OFFSETS = np.zeros(N_KINDS + 1, dtype=np.int64)
+_NO_OFFSETS.setflags(write=False)
+
+
+class PerceptError(ValueError):
+    """Percepts that a consumer cannot use (non-finite values, unknown types, bad shapes)."""
+
+
+_SUBTYPE_MAX = np.array([2, 2, 0, 0, 0, 0, 2, 0], dtype=np.int64)
+"""Largest ``subtype`` per :class:`Kind` (post side, crossing kind, robot team; 0 elsewhere)."""
+_RULES = (
+    "must be finite",
+    "must be finite and >= 0",
+    "must be an integer in 0..{top}",
+    "must be -1, 0 or 1",
+    "must be NaN (unknown) or finite and >= 0",
+)
+
+
+@nb.njit(cache=True)
+def _first_invalid_nb(rows, offsets, subtype_max):  # pragma: no cover - compiled
+    """(row, column, rule) of the first entry that breaks the rules of the module docstring
+    (rule: index into ``_RULES``), or (-1, -1, -1) when every row of the offsets' range is valid."""
+    kind = 0
+    for r in range(offsets[0], offsets[-1]):
+        while r >= offsets[kind + 1]:
+            kind += 1
+        row = rows[r]
+        for c in (0, 1, 11):  # x, y, var_xy
+            if not math.isfinite(row[c]):
+                return r, c, 0
+        for c in (10, 12, 13, 14):  # var_xx, var_yy, sigma_alpha, sigma_beta
+            if not (math.isfinite(row[c]) and row[c] >= 0.0):
+                return r, c, 1
+        sub = row[9]
+        if not (sub >= 0.0 and sub <= subtype_max[kind] and sub == math.floor(sub)):
+            return r, 9, 2
+        if kind == 0 and not (row[17] == -1.0 or row[17] == 0.0 or row[17] == 1.0):
+            return r, 17, 3
+        if kind == 1 and not math.isfinite(row[8]):
+            return r, 8, 0
+        if kind == 2:
+            for c in (4, 5):
+                if not math.isfinite(row[c]):
+                    return r, c, 0
+        if kind == 5 and not (math.isnan(row[15]) or (math.isfinite(row[15]) and row[15] >= 0.0)):
+            return r, 15, 4
+    return -1, -1, -1
+
+
+def _check(
+    time: float,
+    rows: NDArray[np.float64],
+    offsets: NDArray[np.int64],
+    camera_row: NDArray[np.float64] | None,
+    spec: CameraSpec | None,
+) -> None:
+    """Raise :class:`PerceptError` unless the arguments of :class:`Percepts` are usable."""
+    if (
+        isinstance(time, bool)
+        or not isinstance(time, int | float | np.floating | np.integer)
+        or not math.isfinite(time)
+    ):
+        raise PerceptError(f"Percepts.time must be a finite number (s), got {time!r}")
+    if not isinstance(rows, np.ndarray) or rows.dtype != np.float64 or rows.ndim != 2 or rows.shape[1] != N_COLS:
+        got = f"{rows.dtype} array of shape {rows.shape}" if isinstance(rows, np.ndarray) else type(rows).__name__
+        raise PerceptError(f"Percepts rows must be a float64 array of shape (n, {N_COLS}), got {got}")
+    if (
+        not isinstance(offsets, np.ndarray)
+        or offsets.dtype.kind not in "iu"
+        or offsets.shape != (N_KINDS + 1,)
+        or offsets[0] < 0
+        or offsets[-1] > rows.shape[0]
+        or np.any(np.diff(offsets) < 0)
+    ):
+        raise PerceptError(
+            f"Percepts offsets must be {N_KINDS + 1} non-decreasing integers within the {rows.shape[0]} rows "
+            f"(kind k is rows[offsets[k]:offsets[k + 1]]), got {offsets!r}"
+        )
+    if (camera_row is None) != (spec is None):
+        raise PerceptError("Percepts need both a camera row and a camera spec, or neither")
+    if camera_row is not None:
+        cam = np.asarray(camera_row)
+        if cam.shape != (CAMERA_ROW_SIZE,) or not np.all(np.isfinite(cam)):
+            raise PerceptError(f"Percepts camera row must hold {CAMERA_ROW_SIZE} finite numbers, got {camera_row!r}")
+        if not isinstance(spec, CameraSpec):
+            raise PerceptError(f"Percepts camera spec must be a CameraSpec, got {type(spec).__name__}")
+    r, c, rule = _first_invalid_nb(rows, offsets.astype(np.int64, copy=False), _SUBTYPE_MAX)
+    if r >= 0:
+        kind = Kind(int(np.searchsorted(offsets, r, side="right") - 1))
+        text = _RULES[rule].format(top=int(_SUBTYPE_MAX[kind]))
+        raise PerceptError(
+            f"Percepts row {r - int(offsets[0])} ({kind.name} #{r - int(offsets[kind])}): "
+            f"{Col(c).name.lower()} {text}, got {float(rows[r, c])!r}"
+        )
 
 
 class Percepts:
@@ -254,6 +359,7 @@ class Percepts:
         camera_row: NDArray[np.float64] | None,
         spec: CameraSpec | None,
     ):
+        _check(time, rows, offsets, camera_row, spec)
         self.time = time
         self._rows = rows
         self._offsets = offsets

@@ -1,13 +1,31 @@
 """Localization against bad input and repeated construction: what the audit of issue 14 found.
 
-Each test here failed before its fix: the compiled-map cache grew by one entry per match.
+Each test here failed before its fix (a crash, a leak, or bad input accepted without a word).
 """
 
 from __future__ import annotations
 
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
 from cognition.field import make_field
 from cognition.localization import make_localizer
 from cognition.localization import particle_filter as pf
+from cognition.percepts import (
+    N_COLS,
+    N_KINDS,
+    Col,
+    Kind,
+    PerceptError,
+    Percepts,
+    PostSide,
+)
+from teamsim.match import Match, MatchConfig
+from teamsim.referee import RefereeParams
 
 
 def test_field_model_cache_is_shared_and_bounded_across_matches() -> None:
@@ -23,3 +41,130 @@ def test_field_model_cache_is_shared_and_bounded_across_matches() -> None:
         make_localizer("amcl", make_field(name))
     assert len(pf._MODELS) == 3
     assert len(pf._MODELS) <= pf._MODELS_KEPT
+
+
+# -- the compiled kernel never indexes with unchecked data -----------------------------------
+_KERNEL_PROBE = """
+import sys
+import numpy as np
+from cognition.field import make_field
+from cognition.gamestate import GameControlData, GameStateId, TeamInfo
+from cognition.localization import make_localizer
+from cognition.localization import particle_filter as pf
+from cognition.localization.sensor import N_O, O
+from cognition.representations import HeadState, OdometryReading, SensorFrame
+
+kind = float(sys.argv[1])
+obs = np.zeros((1, N_O))
+obs[0, [O.TYPE, O.X, O.A, O.SR, O.SB, O.SO, O.CONF, O.DIST]] = (1.0, 1.5, kind, 0.2, 0.1, 0.3, 1.0, 1.5)
+pf.pack_observations = lambda percepts, table: obs  # what a bad percept would have become
+game = GameControlData(state=GameStateId.PLAYING, teams=(TeamInfo(team_number=1), TeamInfo(team_number=2)))
+for variant in ("mcl", "lowvar", "amcl", "reset", "maturing"):
+    loc = make_localizer(variant, make_field("spl2025"), rng=np.random.default_rng(0), player_number=1)
+    for i in range(3):
+        frame = SensorFrame(time=0.1 * i, frame_index=i, team_number=1, player_number=1,
+                            odometry=OdometryReading(0.0, 0.0, 0.0), head=HeadState(), game=game, percepts=None)
+        pose = loc.update(frame)
+    print(pose.x, pose.y, pose.theta)
+"""
+
+
+@pytest.mark.parametrize("kind", ["nan", "3", "7", "-1", "1e9", "-1e300"])
+def test_a_crossing_of_unknown_kind_reaching_the_kernel_does_not_crash_it(kind: str) -> None:
+    """A crossing kind outside 0..2 indexed the kernel's crossing grid unchecked: SIGSEGV
+    (exit code -11) in every particle variant. Run in a child process so a crash fails the test
+    instead of killing the suite; the kernel must treat the observation as explaining nothing."""
+    done = subprocess.run([sys.executable, "-c", _KERNEL_PROBE, kind], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, (kind, done.returncode, done.stderr[-2000:])
+    assert len(done.stdout.split()) == 15 and all(math.isfinite(float(v)) for v in done.stdout.split()), done.stdout
+
+
+# -- percepts are checked where they enter cognition -----------------------------------------
+def _valid_rows() -> tuple[np.ndarray, np.ndarray]:
+    """One percept of every kind with plausible values (robot frame, m, rad)."""
+    rows = np.full((N_KINDS, N_COLS), np.nan)
+    rows[:, [Col.X, Col.Y]] = (2.0, 0.5)
+    rows[:, [Col.VAR_XX, Col.VAR_XY, Col.VAR_YY]] = (0.01, 0.0, 0.01)
+    rows[:, [Col.SIGMA_ALPHA, Col.SIGMA_BETA]] = (0.02, 0.02)
+    rows[:, Col.SUBTYPE] = 0.0
+    rows[Kind.POST, Col.SUBTYPE] = PostSide.LEFT
+    rows[Kind.POST, Col.GOAL] = 1.0
+    rows[Kind.CROSS, [Col.SUBTYPE, Col.ORIENTATION]] = (2.0, 0.3)
+    rows[Kind.LINE, [Col.X2, Col.Y2, Col.ORIENTATION]] = (3.0, 0.5, 0.0)
+    rows[Kind.BALL, Col.RADIUS_PX] = 12.0
+    rows[Kind.ROBOT, Col.SUBTYPE] = 1.0
+    return rows, np.arange(N_KINDS + 1, dtype=np.int64)
+
+
+def test_valid_percepts_of_every_kind_are_accepted() -> None:
+    rows, offsets = _valid_rows()
+    p = Percepts(1.0, rows, offsets, None, None)
+    assert len(p) == N_KINDS and p.count(Kind.CROSS) == 1
+    rows[Kind.BALL, Col.RADIUS_PX] = np.nan  # an unknown radius is allowed
+    Percepts(1.0, rows, offsets, None, None)
+    assert len(Percepts.empty(3.0)) == 0
+
+
+@pytest.mark.parametrize(
+    ("kind", "col", "value", "words"),
+    [
+        (Kind.CROSS, Col.SUBTYPE, 7.0, "CROSS #0): subtype must be an integer in 0..2, got 7.0"),
+        (Kind.CROSS, Col.SUBTYPE, np.nan, "subtype must be an integer in 0..2"),
+        (Kind.CROSS, Col.SUBTYPE, 1.5, "subtype must be an integer in 0..2"),
+        (Kind.CROSS, Col.SUBTYPE, 1e9, "subtype must be an integer in 0..2"),
+        (Kind.POST, Col.SUBTYPE, 3.0, "POST #0): subtype must be an integer in 0..2"),
+        (Kind.LINE, Col.SUBTYPE, 1.0, "LINE #0): subtype must be an integer in 0..0"),
+        (Kind.POST, Col.GOAL, 2.0, "goal must be -1, 0 or 1"),
+        (Kind.BALL, Col.X, np.inf, "BALL #0): x must be finite, got inf"),
+        (Kind.MARK, Col.Y, np.nan, "MARK #0): y must be finite"),
+        (Kind.ROBOT, Col.VAR_XX, -0.1, "var_xx must be finite and >= 0, got -0.1"),
+        (Kind.CIRCLE, Col.VAR_XY, np.inf, "var_xy must be finite"),
+        (Kind.POLE, Col.SIGMA_BETA, np.nan, "sigma_beta must be finite and >= 0"),
+        (Kind.CROSS, Col.ORIENTATION, np.nan, "orientation must be finite"),
+        (Kind.LINE, Col.X2, np.inf, "LINE #0): x2 must be finite"),
+        (Kind.BALL, Col.RADIUS_PX, -3.0, "radius_px must be NaN (unknown) or finite and >= 0"),
+    ],
+)
+def test_percepts_with_a_bad_entry_are_refused_naming_row_kind_and_column(
+    kind: Kind, col: Col, value: float, words: str
+) -> None:
+    rows, offsets = _valid_rows()
+    rows[kind, col] = value
+    with pytest.raises(PerceptError) as err:
+        Percepts(1.0, rows, offsets, None, None)
+    assert words in str(err.value)
+    assert f"row {int(kind)} " in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        ({"time": math.nan}, "Percepts.time must be a finite number"),
+        ({"time": "1.0"}, "Percepts.time must be a finite number"),
+        ({"rows": np.zeros((2, N_COLS), dtype=np.float32)}, f"float64 array of shape (n, {N_COLS})"),
+        ({"rows": np.zeros((2, 5))}, f"float64 array of shape (n, {N_COLS}), got float64 array of shape (2, 5)"),
+        ({"rows": [[0.0] * N_COLS]}, "got list"),
+        ({"offsets": np.array([0, 2, 1, 3, 4, 5, 6, 7, 8])}, "non-decreasing integers"),
+        ({"offsets": np.arange(N_KINDS + 1) * 2}, "within the 8 rows"),
+        ({"offsets": np.arange(N_KINDS, dtype=float)}, "Percepts offsets must be 9"),
+        ({"camera_row": np.zeros(5)}, "both a camera row and a camera spec"),
+    ],
+)
+def test_percepts_with_a_bad_shape_or_type_are_refused(args: dict, words: str) -> None:
+    rows, offsets = _valid_rows()
+    kw = {"time": 1.0, "rows": rows, "offsets": offsets, "camera_row": None, "spec": None} | args
+    with pytest.raises(PerceptError) as err:
+        Percepts(**kw)
+    assert words in str(err.value)
+
+
+def test_the_simulators_percepts_pass_their_own_checks_in_a_harsh_match() -> None:
+    """The checks must not refuse anything the simulator makes: false positives, occlusion,
+    fallen robots and latency included (a match of the ``harsh`` preset)."""
+    cfg = MatchConfig(seed=5, players_per_team=3, percepts="harsh", referee=RefereeParams(half_seconds=20.0))
+    m = Match(cfg)
+    seen = 0
+    while m.time < 15.0:
+        m.step()
+        seen += sum(len(f.percepts) for f in m.last_frames if f is not None and f.percepts is not None)
+    assert seen > 1000

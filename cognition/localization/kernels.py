@@ -125,10 +125,13 @@ def _q(px, py, th, mx, my, dist, bear, inv_sr, inv_sb):  # pragma: no cover - co
 
 @nb.njit(cache=True, inline="always")
 def _cell(gx, gy, x0, y0, inv_cell, nx, ny):  # pragma: no cover - compiled
-    """Grid cell (row, column) of field point (gx, gy), clamped to the nx x ny grid."""
-    ix = int((gx - x0) * inv_cell)
-    iy = int((gy - y0) * inv_cell)
-    return min(max(iy, 0), ny - 1), min(max(ix, 0), nx - 1)
+    """Grid cell (row, column) of field point (gx, gy), clamped to the nx x ny grid (a
+    non-finite point maps to cell (0, 0): the conversion to int never sees NaN or inf)."""
+    fx = (gx - x0) * inv_cell
+    fy = (gy - y0) * inv_cell
+    fx = fx if fx >= 0.0 else 0.0  # also NaN -> 0
+    fy = fy if fy >= 0.0 else 0.0
+    return int(min(fy, ny - 1.0)), int(min(fx, nx - 1.0))
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=True)
@@ -181,8 +184,9 @@ def log_likelihood_nb(
             for i in range(n):
                 q[i] = _q(px[i], py[i], th[i], 0.0, 0.0, dist, bear, inv_sr, inv_sb)
         elif t == 1:  # crossing of the same kind nearest to where the particle puts it
-            grid = cross_grid[int(oa)]
-            if grid[0, 0] < 0:  # no crossing of this kind on the field
+            known = oa >= 0.0 and oa < cross_grid.shape[0]  # never index with an unchecked kind
+            grid = cross_grid[int(oa) if known else 0]
+            if not known or grid[0, 0] < 0:  # unknown kind, or no crossing of this kind on the field
                 q[:] = -1e4
             else:
                 for i in range(n):  # gathers (scalar): the associated crossing
@@ -204,7 +208,7 @@ def log_likelihood_nb(
                 gx = px[i] + cs[i] * ox - sn[i] * oy
                 gy = py[i] + sn[i] * ox + cs[i] * oy
                 r, c = _cell(gx, gy, x0, y0, inv_cell, nx, ny)
-                j = line_grid[cls, r, c]
+                j = max(line_grid[cls, r, c], 0)  # -1 (no line of the class) cannot occur on a field with lines
                 x1, y1 = lines[j, 0], lines[j, 1]
                 dx, dy = lines[j, 2] - x1, lines[j, 3] - y1
                 u = min(max(((px[i] - x1) * dx + (py[i] - y1) * dy) * lines[j, 6], 0.0), 1.0)
@@ -405,6 +409,8 @@ def pose_nb(parts, n, w, prev, radius, near_xy, near_th, jump_weight, out):  # p
                 ms += w[i] * sn
         if cw >= jump_weight or seed == best_all:
             break
+    if not cw > 0.0:  # weights that are not a distribution (cannot happen after normalise_nb): the seed
+        cw, mx, my, mc, ms = 1.0, parts[seed, 0], parts[seed, 1], math.cos(parts[seed, 2]), math.sin(parts[seed, 2])
     x, y, th = mx / cw, my / cw, math.atan2(ms, mc)
     cxx = cxy = cyy = cxt = cyt = ctt = 0.0
     for i in range(n):

@@ -166,6 +166,8 @@ def pack_nb(rows, offsets, tab, out):  # pragma: no cover - compiled
             if kind == 0:
                 out[k, 3], out[k, 4] = row[9], row[17]
         elif kind == 1:
+            if not (row[9] >= 0.0 and row[9] <= 2.0):  # unknown crossing kind: unusable
+                continue
             out[k, 0] = 1.0
             sr, sb = _sig(tab, 8, adaptive, row, x, y)
             if not adaptive:
