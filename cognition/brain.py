@@ -5,6 +5,9 @@ A brain receives the robot's :class:`~cognition.representations.SensorFrame` and
 That is all a real robot's cognition gets, so a brain written against this interface could
 run on a robot.
 
+A brain may also offer ``rejected_inputs() -> dict[str, int]``: how many sensor inputs of
+each kind it could not use (:mod:`cognition.inputs`); :func:`rejected_inputs` reads it.
+
 The single exception is the *oracle* input: a brain whose ``uses_oracle`` attribute is
 ``True`` also receives an :class:`~cognition.oracle.OracleInput` with ground truth. Oracle
 brains exist for baselines and for the foundation's scripted players; every other brain gets
@@ -55,3 +58,11 @@ class Brain(Protocol):
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Process one frame and decide what to do."""
         ...
+
+
+def rejected_inputs(brain: Brain) -> dict[str, int]:
+    """The sensor inputs ``brain`` could not use so far, by kind (non-finite odometry, invalid
+    team messages, ...), from its optional ``rejected_inputs()`` method; empty when it has none.
+    The simulator sums them into the match summary."""
+    method = getattr(brain, "rejected_inputs", None)
+    return dict(method()) if callable(method) else {}

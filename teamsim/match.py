@@ -67,10 +67,11 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from cognition.brain import Brain, BrainContext
+from cognition.brain import Brain, BrainContext, rejected_inputs
 from cognition.camera import CameraImage, CameraRig
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_colour_scheme, make_field
 from cognition.gamestate import GameControlData, GameStateId
+from cognition.inputs import merge_counts
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
@@ -529,6 +530,7 @@ class Match:
             wall_seconds=self.wall_seconds,
             physics_steps=self.steps,
             localization=self.localization_errors.summary(),
+            rejected_inputs=merge_counts(*(rejected_inputs(b) for b in self.brains)),
         )
 
     def is_playing(self) -> bool:

@@ -7,7 +7,7 @@ Times are game seconds since the start of the match; team indices are 0 (home) a
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from cognition.gamestate import Penalty
@@ -42,6 +42,9 @@ class MatchSummary:
     physics_steps: int
     localization: LocalizationSummary | None = None
     """Pose-estimate errors of the localizing brains (``None`` if no brain reports a pose)."""
+    rejected_inputs: dict[str, int] = field(default_factory=dict)
+    """Sensor inputs the brains could not use, summed over all robots, by kind (e.g.
+    ``odometry_nonfinite``, ``team_message_off_field``; :mod:`cognition.inputs`)."""
 
     @property
     def real_time_factor(self) -> float:
@@ -77,6 +80,7 @@ class MatchSummary:
             "sim_seconds": self.sim_seconds,
             "physics_steps": self.physics_steps,
             "localization": self.localization.to_dict() if self.localization is not None else None,
+            "rejected_inputs": dict(self.rejected_inputs),
         }
 
     def to_dict(self) -> dict[str, Any]:
@@ -114,6 +118,9 @@ class MatchSummary:
             lines.append(f"percepts       {self.percepts_per_frame:.2f} per robot and frame")
         if self.localization is not None:
             lines.append(self.localization.format())
+        if self.rejected_inputs:
+            counts = ", ".join(f"{kind} {n}" for kind, n in self.rejected_inputs.items())
+            lines.append(f"rejected input {sum(self.rejected_inputs.values())} ({counts})")
         lines.append(
             f"simulated      {self.sim_seconds:.1f} s in {self.wall_seconds:.1f} s wall "
             f"(real-time factor {self.real_time_factor:.1f}x, {self.physics_steps} physics steps)"

@@ -236,6 +236,10 @@ class PolicyBrain:
         self.action = np.zeros(CONTINUOUS_SIZE) if self.action_type == "continuous" else 0
         self._last_message = -1e9
 
+    def rejected_inputs(self) -> dict[str, int]:
+        """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
+        return self.provider.rejected_inputs() if isinstance(self.provider, CognitionBeliefs) else {}
+
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Update the beliefs, then carry out the current action."""
         if self.provider is None or self.context is None:

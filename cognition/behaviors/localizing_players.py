@@ -141,6 +141,10 @@ class LocalizingBrain(OracleBrain):
         """The obstacle model's output of the latest frame (robot frame)."""
         return self.world_model.obstacle_model if self.world_model is not None else None
 
+    def rejected_inputs(self) -> dict[str, int]:
+        """Sensor inputs the world model could not use, by kind (:meth:`CognitionBeliefs.rejected_inputs`)."""
+        return self.world_model.rejected_inputs() if self.world_model is not None else {}
+
     # -- cognition ---------------------------------------------------------------------------
     def reset(self, context: BrainContext) -> None:
         """Remember the match facts and build a fresh world model (its localizer draws from the brain's stream)."""

@@ -128,6 +128,10 @@ class ScriptedBrain:
         self.state = "stand"
         self._last_message = -1e9
 
+    def rejected_inputs(self) -> dict[str, int]:
+        """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
+        return self.provider.rejected_inputs() if isinstance(self.provider, CognitionBeliefs) else {}
+
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Update the beliefs, choose the state, act."""
         if self.provider is None or self.context is None:

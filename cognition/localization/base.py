@@ -20,12 +20,19 @@ placement        the robot is picked up (both feet off the ground) while the gam
 penalty          the robot's penalty code becomes non-zero, and again when it returns to 0
 ===============  ===========================================================================
 
+Input that cannot be trusted (non-finite or implausible odometry) is replaced by no motion
+and counted (:class:`cognition.inputs.InputCheck`, :meth:`Localizer.rejected_inputs`). A
+variant whose estimate still becomes non-finite is repaired: :meth:`Localizer.repair`
+restarts it from the robot's possible positions, counted in :attr:`Localizer.repairs`, so
+no filter is ever left in a broken state.
+
 Frames: everything is in the robot's **team frame** (m, rad; own goal at -x).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,6 +40,7 @@ from numpy.typing import NDArray
 from cognition.field import Field
 from cognition.gamestate import GameStateId
 from cognition.geometry import wrap_angle
+from cognition.inputs import InputCheck
 from cognition.localization.params import LocalizationParams
 from cognition.localization.places import placement_poses, return_poses
 from cognition.representations import RobotPose, SensorFrame
@@ -71,16 +79,36 @@ class Localizer:
         self._picked = False
         self.frames = 0
         self.pose = RobotPose(0.0, 0.0, 0.0, np.diag([1e2, 1e2, 10.0]), True, 0, _EMPTY3, _EMPTY1, self.name)
+        self.inputs = InputCheck("localization")
+        """Counts the odometry this localizer replaced by no motion."""
+        self.repairs = 0
+        """Times the estimate became non-finite and the variant was restarted (:meth:`repair`)."""
 
     # -- the per-frame entry point ---------------------------------------------------------
     def update(self, frame: SensorFrame, truth: tuple[float, float, float] | None = None) -> RobotPose:
-        """Process one frame: game-controller events, then the variant's own update."""
+        """Process one frame: input checks, game-controller events, then the variant's own update."""
         if not isinstance(frame, SensorFrame):
             raise TypeError(f"expected a SensorFrame, got {type(frame).__name__}")
+        frame = self.inputs.frame(frame)
         self._game_events(frame)
-        self.pose = self._update(frame, truth)
+        pose = self._update(frame, truth)
+        if not (math.isfinite(pose.x) and math.isfinite(pose.y) and math.isfinite(pose.theta)):
+            self.repairs += 1
+            warnings.warn(
+                f"{self.name} localization of player {frame.player_number} produced a non-finite pose at "
+                f"t={frame.time:.2f} s; restarted from the robot's possible positions",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+            self.repair(frame)
+            pose = self._update(frame, truth)
+        self.pose = pose
         self.frames += 1
         return self.pose
+
+    def rejected_inputs(self) -> dict[str, int]:
+        """Inputs this localizer could not use, by kind (:mod:`cognition.inputs`)."""
+        return dict(self.inputs.rejected)
 
     def _game_events(self, frame: SensorFrame) -> None:
         game = frame.game
@@ -115,6 +143,12 @@ class Localizer:
     def return_poses(self) -> NDArray[np.float64]:
         """Where a penalised robot may come back (K x 3, team frame), for the active rule set."""
         return return_poses(self.field, self.params.return_rule)
+
+    def repair(self, frame: SensorFrame) -> None:
+        """Restart after a non-finite estimate: the variant forgets its state and believes the
+        robot stands where the game state says it can be (the initial touchline spots before
+        the game, else anywhere on the field)."""
+        raise NotImplementedError
 
 
 def _pose(x: float, y: float, th: float, cov: NDArray[np.float64], lost: bool, name: str) -> RobotPose:
@@ -169,6 +203,11 @@ class DeadReckoning(Localizer):
         if not penalized:
             self._jump(self.return_poses())
 
+    def repair(self, frame: SensorFrame) -> None:
+        start = placement_poses(self.field, self.player_number, self.players_per_team, GameStateId.INITIAL, False)[0]
+        self._x, self._y, self._th = float(start[0]), float(start[1]), float(start[2])
+        self._var = np.diag([0.01, 0.01, 0.01])
+
 
 class Oracle(Localizer):
     """``oracle``: reports the true pose it is handed (a baseline; needs ``truth`` every frame)."""
@@ -179,4 +218,9 @@ class Oracle(Localizer):
         if truth is None:
             raise ValueError("the 'oracle' localization needs the true pose (truth=...) every frame")
         x, y, th = (float(v) for v in truth)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(th)):
+            raise ValueError(f"the 'oracle' localization was given a non-finite true pose {truth!r}")
         return _pose(x, y, th, np.zeros((3, 3)), False, self.name)
+
+    def repair(self, frame: SensorFrame) -> None:
+        """Never needed: the oracle keeps no state and refuses non-finite truth."""

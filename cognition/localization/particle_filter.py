@@ -161,9 +161,26 @@ class ParticleFilter(Localizer):
 
     def on_placement(self, poses: NDArray[np.float64]) -> None:
         self.set_particles_around(poses)
+        self._forget()
 
     def on_penalty(self, penalized: bool, state: int) -> None:
         self.set_particles_around(self.return_poses())
+        self._forget()
+
+    def repair(self, frame: SensorFrame) -> None:
+        self.n = self.params.particles
+        if frame.game.state == GameStateId.INITIAL:
+            n0 = placement_poses(self.field, self.player_number, self.players_per_team, GameStateId.INITIAL, False)
+            self.set_particles_around(n0)
+        else:
+            self.set_uniform(own_half=frame.game.state in _OWN_HALF_STATES)
+        self._forget()
+
+    def _forget(self) -> None:
+        """Drop what the filter learnt about its own health and its candidates (new beliefs)."""
+        self.w_slow = self.w_fast = 0.0
+        self._cand = np.zeros((0, 3))
+        self._cand_count = np.zeros(0, dtype=np.int64)
 
     # -- the frame -------------------------------------------------------------------------
     def _update(self, frame: SensorFrame, truth: tuple[float, float, float] | None) -> RobotPose:

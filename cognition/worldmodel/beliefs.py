@@ -15,6 +15,11 @@ CognitionBeliefs       a localization variant (:func:`cognition.localization.mak
 TruthBeliefs           reads the :class:`~cognition.oracle.OracleInput`: exact pose, ball, robots
 =====================  ============================================================================
 
+Input the robot cannot trust never reaches a model: :class:`CognitionBeliefs` first runs the
+frame through :class:`~cognition.inputs.InputCheck` (non-finite or implausible odometry
+becomes no motion); :meth:`CognitionBeliefs.rejected_inputs` counts it by kind, with the team
+messages :class:`~cognition.worldmodel.team.TeamState` rejected.
+
 Frames: ``pose`` and ``team_ball`` and ``teammates`` are in the **team frame** (m, rad; +x
 toward the opponent goal); ``ball`` holds robot-frame (``x, y, vx, vy``) and team-frame
 (``field_x, field_y``) values; ``goal``, ``obstacles`` and ``look_at`` are in the **robot
@@ -33,6 +38,7 @@ from numpy.typing import NDArray
 from cognition.brain import BrainContext
 from cognition.gamestate import GameControlData
 from cognition.geometry import wrap_angle
+from cognition.inputs import InputCheck, merge_counts
 from cognition.localization import VARIANTS, LocalizationParams, Localizer, make_localizer
 from cognition.oracle import OracleInput
 from cognition.representations import BallModel, RobotPose, SensorFrame
@@ -194,9 +200,18 @@ class CognitionBeliefs:
         """The beliefs of the latest frame (``None`` before the first)."""
         self.obstacle_model: ObstacleModel | None = None
         """The obstacle model's latest output (robot frame)."""
+        self.inputs = InputCheck("cognition")
+        """Counts the sensor input replaced before any model saw it (:mod:`cognition.inputs`)."""
+
+    def rejected_inputs(self) -> dict[str, int]:
+        """Inputs dropped so far, by kind: odometry (:mod:`cognition.inputs`), the localizer's
+        own checks, and the team messages the team state rejected (``team_message_invalid``)."""
+        messages = {"team_message_invalid": self.team.rejected} if self.team.rejected else {}
+        return merge_counts(self.inputs.rejected, self.localizer.rejected_inputs(), messages)
 
     def update(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> Beliefs:
         """Run localization and the world model on one frame (``true_pose``: only for ``oracle``)."""
+        frame = self.inputs.frame(frame)
         pose = self.localizer.update(frame, true_pose if self.variant == "oracle" else None)
         mates = self.team.update(frame)
         ball = self.ball_model.update(frame, pose, mates)
