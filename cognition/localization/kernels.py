@@ -136,7 +136,7 @@ def _cell(gx, gy, x0, y0, inv_cell, nx, ny):  # pragma: no cover - compiled
 
 @nb.njit(cache=True, error_model="numpy", fastmath=True)
 def log_likelihood_nb(
-    parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, out, scratch
+    parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, out, scratch, w, obs_ev
 ):  # pragma: no cover - compiled
     """Sum over observations of each particle's log-likelihood into ``out[:n]``.
 
@@ -144,7 +144,9 @@ def log_likelihood_nb(
     (:class:`~cognition.localization.sensor.O`); ``hough``: 1 to use the NimbRo line model
     (else 0), then its sigmas of rho, theta, u-bar and spread; map arrays from
     :class:`~cognition.localization.fieldmodel.FieldModel`; ``scratch``: 10 x N work space,
-    whose row 5 receives the log-likelihoods without the floors (for kidnapping detection).
+    whose row 5 receives the log-likelihoods without the floors (for kidnapping detection);
+    ``w``: N normalised prior weights, with which ``obs_ev[k]`` (K entries) receives each
+    observation's mean likelihood without the floors (how well the particles explain it).
     """
     px = parts[:n, 0]
     py = parts[:n, 1]
@@ -237,12 +239,17 @@ def log_likelihood_nb(
         base = floor + (1.0 - conf)
         for i in range(n):
             raw[i] += max(q[i], -1e4)
+        e = 0.0
         if base > 0.0:
             for i in range(n):
-                prod[i] *= base + conf * math.exp(max(q[i], -1e4))
+                p = math.exp(max(q[i], -1e4))
+                prod[i] *= base + conf * p
+                e += w[i] * p
         else:
             for i in range(n):
                 acc[i] += max(q[i], -1e4)
+                e += w[i] * math.exp(max(q[i], -1e4))
+        obs_ev[k] = e
         if (k + 1) % _BATCH == 0:
             for i in range(n):
                 acc[i] += math.log(prod[i])
@@ -480,17 +487,21 @@ def frame_nb(
     prev,
     pose_par,
     pose_out,
+    obs_ev,
 ):  # pragma: no cover - compiled
     """One frame up to the pose, in one call: :func:`predict_nb` with ``odo`` (dx, dy,
     dtheta), the observation update (``obs`` may have no rows), :func:`normalise_nb` and
     :func:`pose_nb` with ``pose_par`` (cluster radius, near xy, near theta, jump weight).
-    Updates ``prev`` to the new pose. Returns the log evidence of the observations (mean
-    likelihood over the prior weights) with and without the likelihood floors."""
+    Updates ``prev`` to the new pose; ``obs_ev`` receives each observation's mean likelihood
+    without the floors under the prior weights (see :func:`log_likelihood_nb`). Returns the
+    log evidence of the observations (mean likelihood over the prior weights) with and
+    without the likelihood floors."""
     predict_nb(parts, n, odo[0], odo[1], odo[2], motion, state)
     if obs.shape[0] > 0:
         log_likelihood_nb(
-            parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch
-        )
+            parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch, w,
+            obs_ev,
+        )  # fmt: skip
     raw_evidence = 0.0
     if obs.shape[0] > 0:  # log mean over the prior weights of exp(raw), stably
         m = -1e300
