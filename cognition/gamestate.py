@@ -5,23 +5,51 @@ little-endian, UDP port 3838) field for field, so that the simulator's referee c
 exactly what a real GameController would and later work can put it on the wire unchanged
 (:meth:`GameControlData.pack` / :meth:`GameControlData.unpack`).
 
-=================  ======================================================================
-field              meaning
-=================  ======================================================================
-state              INITIAL 0, READY 1, SET 2, PLAYING 3, FINISHED 4, STANDBY 5
-set_play           NONE 0, GOAL_KICK 1, PUSHING_FREE_KICK 2, CORNER_KICK 3, KICK_IN 4,
-                   PENALTY_KICK 5
-first_half         1 during the first half, 0 otherwise
-kicking_team       team number of the team that kicks off / takes the set play
-secs_remaining     seconds left in the half (s)
-secondary_time     seconds of the secondary clock (remaining READY, set play, ...) (s)
-teams[i]           per team: number, colours, goalkeeper, score, message budget and, per
-                   player, the penalty code and the seconds until unpenalised
-=================  ======================================================================
+Every field has the range the official ``RoboCupGameControlData.h`` (v18) defines for it:
+
+=======================  ===============  ==========================================================
+field                    accepted         meaning
+=======================  ===============  ==========================================================
+packet_number            0..255           counter of sent packets (wraps around)
+players_per_team         1..20            players per team (at most :data:`MAX_NUM_PLAYERS`)
+competition_phase        0, 1             ROUNDROBIN 0, PLAYOFF 1 (:class:`CompetitionPhase`)
+competition_type         0, 1             NORMAL 0, MOST_PASSES 1 (:class:`CompetitionType`)
+game_phase               0..3             NORMAL 0, PENALTY_SHOOT 1, OVERTIME 2, TIMEOUT 3
+state                    0..5             INITIAL 0, READY 1, SET 2, PLAYING 3, FINISHED 4, STANDBY 5
+set_play                 0..5             NONE 0, GOAL_KICK 1, PUSHING_FREE_KICK 2, CORNER_KICK 3,
+                                          KICK_IN 4, PENALTY_KICK 5
+first_half               0, 1             1 during the first half, 0 otherwise
+kicking_team             a team number    team number of the team that kicks off / takes the set
+                         or 255           play; :data:`KICKING_TEAM_NONE` (255) when nobody does
+secs_remaining           -32768..32767    seconds left in the half (s)
+secondary_time           -32768..32767    seconds of the secondary clock (remaining READY, ...) (s)
+teams                    2 blocks         the two teams, with different team numbers
+teams[i].team_number     0..255           the team's GameController number
+teams[i].*_colour        0..9             BLUE 0, RED 1, YELLOW 2, BLACK 3, WHITE 4, GREEN 5,
+                                          ORANGE 6, PURPLE 7, BROWN 8, GRAY 9 (:class:`TeamColour`)
+teams[i].goalkeeper      0..20            player number of the goalkeeper, 0 when there is none
+teams[i].score           0..255           goals
+teams[i].penalty_shot    0..255           penalty shot counter (or the fallback-mode flag)
+teams[i].single_shots    0..65535         bit mask of successful penalty shots
+teams[i].message_budget  0..65535         team messages the team may still send in this game
+teams[i].players         20 entries       per player (index = number - 1):
+  .penalty               :class:`Penalty` 0..11, 14, 15: the penalty code, 0 when playing
+  .secs_till_unpenalised 0..255           seconds until the robot may return (s)
+=======================  ===============  ==========================================================
+
+:meth:`GameControlData.unpack` checks every one of these ranges and raises ``ValueError``
+naming the field, the accepted values and the value found (e.g. ``GameControlData.teams[1]
+.players[3].penalty must be one of [...], got 99``), so a packet with undefined values never
+reaches a robot's behaviour. :meth:`GameControlData.pack` checks the same ranges (``TypeError``
+for a value that is not an integer) instead of letting :mod:`struct` write or refuse garbage;
+like the GameController, it saturates ``secs_till_unpenalised`` at 255. Building a
+:class:`GameControlData` does not check anything: the referee builds one whenever the game
+changes and it must stay cheap.
 """
 
 from __future__ import annotations
 
+import operator
 import struct
 from dataclasses import dataclass, field, replace
 from enum import IntEnum
@@ -33,6 +61,8 @@ GAMECONTROLLER_RETURN_PORT = 3939
 MAX_NUM_PLAYERS = 20
 TEAM_MESSAGE_MAX_BYTES = 128
 TEAM_MESSAGE_BUDGET = 1200
+KICKING_TEAM_NONE = 255
+"""``kicking_team`` when no team kicks off or takes a set play."""
 
 
 class GameStateId(IntEnum):
@@ -64,6 +94,35 @@ class GamePhase(IntEnum):
     PENALTY_SHOOT = 1
     OVERTIME = 2
     TIMEOUT = 3
+
+
+class CompetitionPhase(IntEnum):
+    """Phase of the competition."""
+
+    ROUNDROBIN = 0
+    PLAYOFF = 1
+
+
+class CompetitionType(IntEnum):
+    """Type of the competition."""
+
+    NORMAL = 0
+    MOST_PASSES = 1
+
+
+class TeamColour(IntEnum):
+    """Jersey colours of the SPL GameController."""
+
+    BLUE = 0
+    RED = 1
+    YELLOW = 2
+    BLACK = 3
+    WHITE = 4
+    GREEN = 5
+    ORANGE = 6
+    PURPLE = 7
+    BROWN = 8
+    GRAY = 9
 
 
 class Penalty(IntEnum):
@@ -139,7 +198,7 @@ class GameControlData:
     state: int = GameStateId.INITIAL
     set_play: int = SetPlay.NONE
     first_half: int = 1
-    kicking_team: int = 0
+    kicking_team: int = KICKING_TEAM_NONE
     secs_remaining: int = 600
     secondary_time: int = 0
     teams: tuple[TeamInfo, TeamInfo] = (TeamInfo(team_number=1), TeamInfo(team_number=2))
@@ -156,18 +215,22 @@ class GameControlData:
         return replace(self, **changes)  # type: ignore[arg-type]
 
     def pack(self) -> bytes:
-        """The little-endian wire format of the v18 struct."""
+        """The little-endian wire format of the v18 struct.
+
+        ``ValueError`` (``TypeError`` for a non-integer) names the first field outside the
+        ranges of the module docstring; ``secs_till_unpenalised`` saturates at 255."""
+        check(self, saturate_secs=True)
         out = [
             _HEAD.pack(
                 GAMECONTROLLER_HEADER,
                 GAMECONTROLLER_VERSION,
-                self.packet_number & 0xFF,
+                self.packet_number,
                 self.players_per_team,
                 self.competition_phase,
                 self.competition_type,
-                int(self.game_phase),
-                int(self.state),
-                int(self.set_play),
+                self.game_phase,
+                self.state,
+                self.set_play,
                 self.first_half,
                 self.kicking_team,
                 self.secs_remaining,
@@ -188,12 +251,15 @@ class GameControlData:
                 )
             )
             for p in t.players:
-                out.append(_PLAYER.pack(int(p.penalty), min(255, p.secs_till_unpenalised)))
+                out.append(_PLAYER.pack(p.penalty, min(255, operator.index(p.secs_till_unpenalised))))
         return b"".join(out)
 
     @classmethod
     def unpack(cls, data: bytes) -> GameControlData:
-        """Parse a v18 packet; ``ValueError`` names what is wrong with a malformed one."""
+        """Parse a v18 packet; ``ValueError`` names what is wrong with a malformed one (size,
+        header, version, or the first field outside the ranges of the module docstring)."""
+        if not isinstance(data, bytes | bytearray | memoryview):
+            raise TypeError(f"GameControlData packet must be bytes, got {type(data).__name__}")
         if len(data) != PACKET_SIZE:
             raise ValueError(f"GameControlData packet must be {PACKET_SIZE} bytes, got {len(data)}")
         head = _HEAD.unpack_from(data, 0)
@@ -212,7 +278,7 @@ class GameControlData:
                 offset += _PLAYER.size
                 players.append(RobotInfo(pen, secs))
             teams.append(TeamInfo(*t, players=tuple(players)))
-        return cls(
+        out = cls(
             packet_number=head[2],
             players_per_team=head[3],
             competition_phase=head[4],
@@ -226,3 +292,82 @@ class GameControlData:
             secondary_time=head[12],
             teams=(teams[0], teams[1]),
         )
+        check(out)
+        return out
+
+
+_U8 = (0, 0xFF)
+_U16 = (0, 0xFFFF)
+_I16 = (-0x8000, 0x7FFF)
+_PENALTIES = sorted(int(p) for p in Penalty)
+_HEAD_FIELDS: tuple[tuple[str, tuple[int, int] | list[int]], ...] = (
+    ("packet_number", _U8),
+    ("players_per_team", (1, MAX_NUM_PLAYERS)),
+    ("competition_phase", sorted(int(v) for v in CompetitionPhase)),
+    ("competition_type", sorted(int(v) for v in CompetitionType)),
+    ("game_phase", sorted(int(v) for v in GamePhase)),
+    ("state", sorted(int(v) for v in GameStateId)),
+    ("set_play", sorted(int(v) for v in SetPlay)),
+    ("first_half", [0, 1]),
+    ("secs_remaining", _I16),
+    ("secondary_time", _I16),
+)
+_TEAM_FIELDS: tuple[tuple[str, tuple[int, int] | list[int]], ...] = (
+    ("team_number", _U8),
+    ("field_player_colour", sorted(int(v) for v in TeamColour)),
+    ("goalkeeper_colour", sorted(int(v) for v in TeamColour)),
+    ("goalkeeper", (0, MAX_NUM_PLAYERS)),
+    ("score", _U8),
+    ("penalty_shot", _U8),
+    ("single_shots", _U16),
+    ("message_budget", _U16),
+)
+
+
+def _int(name: str, value: object) -> int:
+    try:
+        return operator.index(value)  # type: ignore[arg-type]
+    except TypeError:
+        raise TypeError(f"{name} must be an integer, got {value!r}") from None
+
+
+def _in(name: str, value: object, allowed: tuple[int, int] | list[int]) -> None:
+    """``ValueError`` unless ``value`` is in ``allowed``: a (low, high) range or a list of values."""
+    v = _int(name, value)
+    if isinstance(allowed, tuple):
+        if not allowed[0] <= v <= allowed[1]:
+            raise ValueError(f"{name} must be in {allowed[0]}..{allowed[1]}, got {value!r}")
+    elif v not in allowed:
+        raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+
+
+def check(data: GameControlData, saturate_secs: bool = False) -> None:
+    """Raise ``ValueError`` (``TypeError`` for a non-integer) naming the first field of ``data``
+    outside the ranges of the module docstring; ``saturate_secs`` lets ``secs_till_unpenalised``
+    exceed 255 (:meth:`GameControlData.pack` writes 255 then)."""
+    for name, allowed in _HEAD_FIELDS:
+        _in(f"GameControlData.{name}", getattr(data, name), allowed)
+    teams = data.teams
+    if not isinstance(teams, tuple | list) or len(teams) != 2 or not all(isinstance(t, TeamInfo) for t in teams):
+        raise ValueError(f"GameControlData.teams must be two TeamInfo blocks, got {teams!r}")
+    for i, t in enumerate(teams):
+        o = f"GameControlData.teams[{i}]"
+        for name, allowed in _TEAM_FIELDS:
+            _in(f"{o}.{name}", getattr(t, name), allowed)
+        players = t.players
+        if not isinstance(players, tuple | list) or len(players) != MAX_NUM_PLAYERS:
+            n = len(players) if isinstance(players, tuple | list) else players
+            raise ValueError(f"{o}.players must hold {MAX_NUM_PLAYERS} RobotInfo entries, got {n!r}")
+        for j, p in enumerate(players):
+            if not isinstance(p, RobotInfo):
+                raise ValueError(f"{o}.players[{j}] must be a RobotInfo, got {p!r}")
+            _in(f"{o}.players[{j}].penalty", p.penalty, _PENALTIES)
+            secs = f"{o}.players[{j}].secs_till_unpenalised"
+            if not saturate_secs:
+                _in(secs, p.secs_till_unpenalised, _U8)
+            elif _int(secs, p.secs_till_unpenalised) < 0:
+                raise ValueError(f"{secs} must be >= 0 (above 255 is sent as 255), got {p.secs_till_unpenalised!r}")
+    numbers = (_int("team_number", teams[0].team_number), _int("team_number", teams[1].team_number))
+    if numbers[0] == numbers[1]:
+        raise ValueError(f"GameControlData.teams[0] and teams[1] must have different team numbers, got {numbers}")
+    _in("GameControlData.kicking_team", data.kicking_team, [*numbers, KICKING_TEAM_NONE])
