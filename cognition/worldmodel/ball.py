@@ -16,6 +16,16 @@ Sec. V) for one robot. Each frame:
 
 Levels (CMU IV.A): ``valid`` while the position sd is below ``valid_sigma``, ``suspicious``
 below ``suspicious_sigma``, else ``invalid``.
+
+Given ``limits`` (the largest abs(x), abs(y) of the carpet plus a margin, team frame, m:
+:func:`cognition.worldmodel.team.carpet_limits`), a state whose field position lies beyond them
+is put back on the limit and loses its velocity across it: the boards stop a real ball, and
+without this a teammate's report of a fast ball could carry the estimate tens of metres away.
+
+A state that is no longer finite (whatever produced it) is dropped instead of published: the
+model then reports no ball (``invalid``, source ``none``) until the next sighting or team
+ball, never a NaN ball; a teammate's report that would make the measurement non-finite is
+skipped.
 """
 
 from __future__ import annotations
@@ -50,11 +60,15 @@ _TEAM_VELOCITY_VAR = 1.0  # (m/s)^2: the message carries no velocity covariance
 
 
 class KalmanBallModel:
-    """One robot's Kalman ball (module docstring); ``ball_radius`` in m from the field map."""
+    """One robot's Kalman ball (module docstring); ``ball_radius`` in m from the field map,
+    ``limits`` the largest abs(x), abs(y) (m, team frame) of a ball, ``None`` for no limit."""
 
-    def __init__(self, ball_radius: float, params: KalmanBallParams | None = None):
+    def __init__(
+        self, ball_radius: float, params: KalmanBallParams | None = None, limits: tuple[float, float] | None = None
+    ):
         self.params = params or KalmanBallParams()
         self.ball_radius = float(ball_radius)
+        self.limits = limits
         self.x: NDArray[np.float64] | None = None
         self.p: NDArray[np.float64] | None = None
         self.last_seen = -math.inf
@@ -78,6 +92,8 @@ class KalmanBallModel:
             self.source = "vision"
         elif pose is not None and team and self._needs_team():
             self._team(pose, team)
+        if pose is not None and self.limits is not None:
+            self._keep_on_carpet(pose, self.limits)
         return self._output(pose)
 
     # -- updates ---------------------------------------------------------------------------
@@ -140,18 +156,39 @@ class KalmanBallModel:
         r[:2, :2] = rot @ cov @ rot.T + pose.covariance[:2, :2]
         r[2:, 2:] = np.eye(2) * _TEAM_VELOCITY_VAR
         r *= self.params.team_inflation
+        if not (np.isfinite(z).all() and np.isfinite(r).all()):
+            return  # a report (or an own pose) no update can use
         if self.x is None or self.p is None:
             self.x, self.p = z, r
         else:
             self.x, self.p = update(self.x, self.p, z, r)
         self.source = "team"
 
+    def _keep_on_carpet(self, pose: RobotPose, limits: tuple[float, float]) -> None:
+        if self.x is None:
+            return
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        x = self.x
+        fx, fy = pose.x + c * x[0] - s * x[1], pose.y + s * x[0] + c * x[1]
+        if not (math.isfinite(fx) and math.isfinite(fy)) or (abs(fx) <= limits[0] and abs(fy) <= limits[1]):
+            return  # on the carpet (or a pose that says nothing: the output check handles it)
+        vx, vy = c * x[2] - s * x[3], s * x[2] + c * x[3]  # field frame
+        if abs(fx) > limits[0]:
+            fx, vx = math.copysign(limits[0], fx), 0.0
+        if abs(fy) > limits[1]:
+            fy, vy = math.copysign(limits[1], fy), 0.0
+        dx, dy = fx - pose.x, fy - pose.y
+        self.x = np.array([c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy])
+
     # -- output ----------------------------------------------------------------------------
     def _output(self, pose: RobotPose | None) -> BallModel:
+        if self.x is not None and self.p is not None and not (np.isfinite(self.x).all() and np.isfinite(self.p).all()):
+            self.x = self.p = None  # NaN would read as a certain ball below (max(0, nan) is 0)
+            self.source = "none"
         if self.x is None or self.p is None:
             return BallModel(0.0, 0.0, 0.0, 0.0, np.eye(4) * 1e6, math.nan, math.nan, math.inf, "invalid", "none")
         p = self.p
-        sd = math.sqrt(max(0.0, 0.5 * float(p[0, 0] + p[1, 1])))
+        sd = math.sqrt(max(0.0, 0.5 * float(p[0, 0] + p[1, 1])))  # finite here
         level: BallLevel = "valid" if sd < VALID_SIGMA else ("suspicious" if sd < SUSPICIOUS_SIGMA else "invalid")
         fx = fy = math.nan
         if pose is not None:

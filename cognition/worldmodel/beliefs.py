@@ -17,8 +17,8 @@ TruthBeliefs           reads the :class:`~cognition.oracle.OracleInput`: exact p
 
 Input the robot cannot trust never reaches a model: :class:`CognitionBeliefs` first runs the
 frame through :class:`~cognition.inputs.InputCheck` (non-finite or implausible odometry
-becomes no motion); :meth:`CognitionBeliefs.rejected_inputs` counts it by kind, with the team
-messages :class:`~cognition.worldmodel.team.TeamState` rejected.
+becomes no motion) and the team messages through :class:`~cognition.worldmodel.team.TeamState`
+(invalid ones are dropped); :meth:`CognitionBeliefs.rejected_inputs` counts both by kind.
 
 Frames: ``pose`` and ``team_ball`` and ``teammates`` are in the **team frame** (m, rad; +x
 toward the opponent goal); ``ball`` holds robot-frame (``x, y, vx, vy``) and team-frame
@@ -45,9 +45,9 @@ from cognition.representations import BallModel, RobotPose, SensorFrame
 from cognition.worldmodel.ball import KalmanBallModel
 from cognition.worldmodel.goal import GoalEstimate, GoalModel
 from cognition.worldmodel.hypotheses import BallHypotheses
-from cognition.worldmodel.messages import Role, TeamMessage
+from cognition.worldmodel.messages import MAX_POSE_STD, Role, TeamMessage
 from cognition.worldmodel.obstacles import ObstacleGrid, ObstacleModel, ObstacleSectors
-from cognition.worldmodel.team import TeamBallEstimate, TeamState, rotate_covariance, team_ball
+from cognition.worldmodel.team import TeamBallEstimate, TeamState, carpet_limits, rotate_covariance, team_ball
 
 _EMPTY2 = np.zeros((0, 2))
 _EMPTY3 = np.zeros((0, 3))
@@ -190,9 +190,9 @@ class CognitionBeliefs:
             player_number=context.player_number,
             players_per_team=context.players_per_team,
         )
-        self.ball_model = KalmanBallModel(0.5 * context.field.dims.ball_diameter)
+        self.ball_model = KalmanBallModel(0.5 * context.field.dims.ball_diameter, limits=carpet_limits(context.field))
         self.hypotheses = BallHypotheses()
-        self.team = TeamState(context.player_number)
+        self.team = TeamState(context.player_number, context.field)
         self.obstacles: ObstacleGrid | ObstacleSectors = make_obstacle_model(obstacle_model)
         dims = context.field.dims
         self.goal_model = GoalModel(dims.goal_inner_width + dims.goal_post_diameter)
@@ -205,9 +205,12 @@ class CognitionBeliefs:
 
     def rejected_inputs(self) -> dict[str, int]:
         """Inputs dropped so far, by kind: odometry (:mod:`cognition.inputs`), the localizer's
-        own checks, and the team messages the team state rejected (``team_message_invalid``)."""
-        messages = {"team_message_invalid": self.team.rejected} if self.team.rejected else {}
-        return merge_counts(self.inputs.rejected, self.localizer.rejected_inputs(), messages)
+        own checks, and team messages (``team_message_<reason>``, :mod:`cognition.worldmodel.team`)."""
+        return merge_counts(
+            self.inputs.rejected,
+            self.localizer.rejected_inputs(),
+            {f"team_message_{reason}": n for reason, n in self.team.rejected_by_reason.items()},
+        )
 
     def update(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> Beliefs:
         """Run localization and the world model on one frame (``true_pose``: only for ``oracle``)."""
@@ -216,7 +219,7 @@ class CognitionBeliefs:
         mates = self.team.update(frame)
         ball = self.ball_model.update(frame, pose, mates)
         belief = self.hypotheses.update(frame, pose, mates)
-        tb = team_ball(ball, pose, self.context.player_number, mates)
+        tb = team_ball(ball, pose, self.context.player_number, mates, limits=self.team.limits)
         self.obstacle_model = self.obstacles.update(frame.time, frame.odometry, frame.percepts)
         o = frame.odometry
         self.goal_model.move_robot(o.dx, o.dy, o.dtheta, 1.0 / self.context.cognition_hz)
@@ -255,7 +258,7 @@ class CognitionBeliefs:
             }  # fmt: skip
         msg = TeamMessage(
             player=self.context.player_number, x=_clip(pose.x, 99.0), y=_clip(pose.y, 99.0), theta=pose.theta,
-            pose_std=min(pose.position_std, 1e6), role=role, fallen=b.fallen, penalized=bool(b.penalty),
+            pose_std=min(pose.position_std, MAX_POSE_STD), role=role, fallen=b.fallen, penalized=bool(b.penalty),
             lost=pose.lost, **fields,  # type: ignore[arg-type]
         )  # fmt: skip
         return msg.pack()

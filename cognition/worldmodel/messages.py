@@ -26,16 +26,40 @@ offset  bytes   type        content
 56      2       H           CRC-16/CCITT of bytes 0..55
 ======  ======  ==========  ================================================================
 
-:func:`unpack` rejects anything else with :class:`MalformedMessageError` (wrong size, magic,
-version, checksum, player number, role, non-finite or out-of-range values), so a corrupt or
-truncated packet can never crash a receiving robot. Floats travel as float32: a message
-that came out of :func:`unpack` packs to the same bytes again.
+Accepted content (checked when a :class:`TeamMessage` is built and when one is unpacked; every
+float must be finite):
+
+==========================  ======================  ==============================================
+field                       accepted                why this bound
+==========================  ======================  ==============================================
+player                      1..7                    SPL team sizes
+flags, role                 the bits above, Role    nothing else is defined
+x, y, ball_x, ball_y        within +-100 m          wire limit (:data:`MAX_POSITION`); the receiver
+                                                    (:class:`~cognition.worldmodel.team.TeamState`)
+                                                    also wants them on the carpet plus a margin
+theta                       within +-4 rad          pi plus float32 rounding (:data:`MAX_ANGLE`)
+ball_vx, ball_vy            within +-50 m/s         far beyond any kick (:data:`MAX_BALL_SPEED`)
+pose_std                    0..100 m                a larger sd says nothing more (:data:`MAX_POSE_STD`)
+ball_age                    0..1e9 s                1e9 s stands for "never seen" (:data:`MAX_BALL_AGE`)
+ball_cov_xx, ball_cov_yy    0..100 m^2              a 10 m sd says nothing more (:data:`MAX_BALL_VARIANCE`)
+ball_cov_xy                 xy^2 <= xx yy (1+1e-6)  positive semi-definite, with float32 slack
+ball_confidence             0..1                    a probability
+==========================  ======================  ==============================================
+
+:func:`unpack` rejects anything else with :class:`MalformedMessageError`, whose ``reason`` is one
+of :data:`REJECT_REASONS` (``format``: not bytes, wrong size, magic or version; ``checksum``;
+``non_finite``; ``out_of_range``; ``covariance``: not positive semi-definite), so a corrupt,
+truncated or absurd packet can never crash a receiving robot or poison its world model.
+Building a :class:`TeamMessage` with such content raises the same error (a ``ValueError``).
+Floats travel as float32: a message that came out of :func:`unpack` packs to the same bytes
+again.
 """
 
 from __future__ import annotations
 
 import binascii
 import math
+import numbers
 import struct
 from dataclasses import dataclass
 from enum import IntEnum
@@ -51,12 +75,31 @@ SIZE = _BODY.size + _CRC.size
 assert SIZE <= TEAM_MESSAGE_MAX_BYTES
 
 FALLEN, PENALIZED, LOST, BALL_VALID = 1, 2, 4, 8
-_MAX_POSITION = 100.0  # m: anything beyond this is not a soccer field
-_MAX_SPEED = 50.0  # m/s
+MAX_POSITION = 100.0
+"""Largest absolute coordinate (m) the message carries; the receiver checks the carpet itself."""
+MAX_ANGLE = 4.0
+"""Largest absolute heading (rad): pi with room for float32 rounding."""
+MAX_BALL_SPEED = 50.0
+"""Largest absolute ball velocity component (m/s)."""
+MAX_POSE_STD = 100.0
+"""Largest pose standard deviation (m)."""
+MAX_BALL_AGE = 1.0e9
+"""Largest ball age (s); the default, for a ball never seen."""
+MAX_BALL_VARIANCE = 100.0
+"""Largest ball position variance (m^2)."""
+_PSD_SLACK = 1e-6
+
+REJECT_REASONS = ("format", "checksum", "non_finite", "out_of_range", "covariance")
+"""Reasons :func:`unpack` gives for a rejected packet (:attr:`MalformedMessageError.reason`)."""
 
 
 class MalformedMessageError(ValueError):
-    """A received packet is not a valid team message."""
+    """A packet, or the content of a message being built, is not a valid team message."""
+
+    def __init__(self, message: str, reason: str):
+        super().__init__(message)
+        self.reason = reason
+        """Why: one of :data:`REJECT_REASONS`."""
 
 
 class Role(IntEnum):
@@ -94,7 +137,7 @@ class TeamMessage:
     lost: bool = False
 
     def __post_init__(self) -> None:
-        _validate(self, ValueError)
+        _validate(self)
 
     def pack(self) -> bytes:
         """The wire format (:data:`SIZE` bytes)."""
@@ -106,63 +149,88 @@ class TeamMessage:
         )
         body = _BODY.pack(
             MAGIC, VERSION, self.player, flags, int(self.role), self.x, self.y, self.theta, self.pose_std,
-            self.ball_x, self.ball_y, self.ball_vx, self.ball_vy, min(self.ball_age, 3.0e38),
+            self.ball_x, self.ball_y, self.ball_vx, self.ball_vy, self.ball_age,
             self.ball_cov_xx, self.ball_cov_xy, self.ball_cov_yy, round(self.ball_confidence * 65535),
         )  # fmt: skip
         return body + _CRC.pack(binascii.crc_hqx(body, 0xFFFF))
 
 
 def unpack(data: bytes) -> TeamMessage:
-    """Decode a packet; :class:`MalformedMessageError` names what is wrong with an invalid one."""
+    """Decode a packet; :class:`MalformedMessageError` names what is wrong with an invalid one
+    and gives the reason (:data:`REJECT_REASONS`)."""
     if not isinstance(data, bytes | bytearray | memoryview):
-        raise MalformedMessageError(f"team message must be bytes, got {type(data).__name__}")
+        raise MalformedMessageError(f"team message must be bytes, got {type(data).__name__}", "format")
     data = bytes(data)
     if len(data) != SIZE:
-        raise MalformedMessageError(f"team message has {len(data)} bytes, expected {SIZE}")
+        raise MalformedMessageError(f"team message has {len(data)} bytes, expected {SIZE}", "format")
     body = data[: _BODY.size]
     (crc,) = _CRC.unpack(data[_BODY.size :])
     if binascii.crc_hqx(body, 0xFFFF) != crc:
-        raise MalformedMessageError("team message checksum mismatch (corrupted)")
+        raise MalformedMessageError("team message checksum mismatch (corrupted)", "checksum")
     (magic, version, player, flags, role, x, y, th, pstd, bx, by, bvx, bvy, age, cxx, cxy, cyy, conf) = _BODY.unpack(
         body
     )
     if magic != MAGIC:
-        raise MalformedMessageError(f"team message magic is {magic!r}, expected {MAGIC!r}")
+        raise MalformedMessageError(f"team message magic is {magic!r}, expected {MAGIC!r}", "format")
     if version != VERSION:
-        raise MalformedMessageError(f"team message version {version} is not supported (expected {VERSION})")
+        raise MalformedMessageError(f"team message version {version} is not supported (expected {VERSION})", "format")
     if flags & ~(FALLEN | PENALIZED | LOST | BALL_VALID):
-        raise MalformedMessageError(f"team message has unknown flag bits {flags:#x}")
+        raise MalformedMessageError(f"team message has unknown flag bits {flags:#x}", "out_of_range")
     if role not in Role._value2member_map_:
-        raise MalformedMessageError(f"team message role {role} is unknown")
-    try:
-        return TeamMessage(
-            player=player, x=x, y=y, theta=th, pose_std=pstd, ball_x=bx, ball_y=by, ball_vx=bvx, ball_vy=bvy,
-            ball_age=age, ball_cov_xx=cxx, ball_cov_xy=cxy, ball_cov_yy=cyy, ball_confidence=conf / 65535,
-            ball_valid=bool(flags & BALL_VALID), role=Role(role), fallen=bool(flags & FALLEN),
-            penalized=bool(flags & PENALIZED), lost=bool(flags & LOST),
-        )  # fmt: skip
-    except ValueError as e:
-        raise MalformedMessageError(f"team message content is invalid: {e}") from None
+        raise MalformedMessageError(f"team message role {role} is unknown", "out_of_range")
+    return TeamMessage(
+        player=player, x=x, y=y, theta=th, pose_std=pstd, ball_x=bx, ball_y=by, ball_vx=bvx, ball_vy=bvy,
+        ball_age=age, ball_cov_xx=cxx, ball_cov_xy=cxy, ball_cov_yy=cyy, ball_confidence=conf / 65535,
+        ball_valid=bool(flags & BALL_VALID), role=Role(role), fallen=bool(flags & FALLEN),
+        penalized=bool(flags & PENALIZED), lost=bool(flags & LOST),
+    )  # fmt: skip
 
 
-def _validate(m: TeamMessage, error: type[Exception]) -> None:
+_FLOATS = ("x", "y", "theta", "pose_std", "ball_x", "ball_y", "ball_vx", "ball_vy", "ball_age", "ball_cov_xx",
+           "ball_cov_xy", "ball_cov_yy", "ball_confidence")  # fmt: skip
+_SYMMETRIC = (
+    (("x", "y", "ball_x", "ball_y"), MAX_POSITION, "m"),
+    (("theta",), MAX_ANGLE, "rad"),
+    (("ball_vx", "ball_vy"), MAX_BALL_SPEED, "m/s"),
+)
+_NON_NEGATIVE = (
+    (("pose_std",), MAX_POSE_STD, "m"),
+    (("ball_age",), MAX_BALL_AGE, "s"),
+    (("ball_cov_xx", "ball_cov_yy"), MAX_BALL_VARIANCE, "m^2"),
+    (("ball_confidence",), 1.0, ""),
+)
+
+
+def _validate(m: TeamMessage) -> None:
+    """Raise :class:`MalformedMessageError` naming the first field of ``m`` outside the ranges of
+    the module docstring."""
     if isinstance(m.player, bool) or not isinstance(m.player, int) or not 1 <= m.player <= 7:
-        raise error(f"TeamMessage.player must be an integer in 1..7, got {m.player!r}")
-    for name in ("x", "y", "ball_x", "ball_y"):
+        raise MalformedMessageError(f"TeamMessage.player must be an integer in 1..7, got {m.player!r}", "out_of_range")
+    for name in _FLOATS:
         v = getattr(m, name)
-        if not math.isfinite(v) or abs(v) > _MAX_POSITION:
-            raise error(f"TeamMessage.{name} must be finite and within {_MAX_POSITION} m, got {v!r}")
-    for name in ("ball_vx", "ball_vy"):
-        v = getattr(m, name)
-        if not math.isfinite(v) or abs(v) > _MAX_SPEED:
-            raise error(f"TeamMessage.{name} must be finite and within {_MAX_SPEED} m/s, got {v!r}")
-    if not math.isfinite(m.theta) or abs(m.theta) > 4.0:
-        raise error(f"TeamMessage.theta must be an angle in [-pi, pi] (rad), got {m.theta!r}")
-    for name in ("pose_std", "ball_age", "ball_cov_xx", "ball_cov_yy"):
-        v = getattr(m, name)
-        if not v >= 0.0 or math.isnan(v):
-            raise error(f"TeamMessage.{name} must be >= 0, got {v!r}")
-    if not math.isfinite(m.ball_cov_xy) or m.ball_cov_xy * m.ball_cov_xy > m.ball_cov_xx * m.ball_cov_yy * (1 + 1e-6):
-        raise error("TeamMessage ball covariance must be positive semi-definite")
-    if not 0.0 <= m.ball_confidence <= 1.0:
-        raise error(f"TeamMessage.ball_confidence must be in [0, 1], got {m.ball_confidence!r}")
+        if isinstance(v, bool) or not isinstance(v, numbers.Real):
+            raise MalformedMessageError(f"TeamMessage.{name} must be a number, got {v!r}", "out_of_range")
+        if not math.isfinite(v):
+            raise MalformedMessageError(f"TeamMessage.{name} must be finite, got {v!r}", "non_finite")
+    for names, limit, unit in _SYMMETRIC:
+        for name in names:
+            v = getattr(m, name)
+            if abs(v) > limit:
+                raise MalformedMessageError(
+                    f"TeamMessage.{name} must be in [-{limit:g}, {limit:g}] {unit}, got {v!r}", "out_of_range"
+                )
+    for names, limit, unit in _NON_NEGATIVE:
+        for name in names:
+            v = getattr(m, name)
+            if not 0.0 <= v <= limit:
+                raise MalformedMessageError(
+                    f"TeamMessage.{name} must be in [0, {limit:g}] {unit}".rstrip() + f", got {v!r}", "out_of_range"
+                )
+    if m.ball_cov_xy * m.ball_cov_xy > m.ball_cov_xx * m.ball_cov_yy * (1.0 + _PSD_SLACK):
+        raise MalformedMessageError(
+            f"TeamMessage ball covariance must be positive semi-definite (xy^2 <= xx * yy), got xx="
+            f"{m.ball_cov_xx!r}, xy={m.ball_cov_xy!r}, yy={m.ball_cov_yy!r}",
+            "covariance",
+        )
+    if not isinstance(m.role, Role):
+        raise MalformedMessageError(f"TeamMessage.role must be a Role, got {m.role!r}", "out_of_range")

@@ -2,15 +2,36 @@
 
 :class:`TeamState` reads the team messages a robot received each frame
 (:mod:`cognition.worldmodel.messages`), keeps the latest valid one per teammate with the
-time it arrived, drops the ones older than ``max_age`` and counts what it rejected: a
-malformed packet never reaches the rest of the brain.
+time it arrived, drops the ones older than ``max_age`` and counts what it rejected, in total
+(``rejected``) and by reason (``rejected_by_reason``): a malformed or absurd packet never
+reaches the rest of the brain. A message is accepted only if :func:`~cognition.worldmodel
+.messages.unpack` accepts it (finite values, sane covariances and uncertainties: the table in
+that module) and, beyond that:
+
+============  ================================================================================
+reason        the message is rejected when
+============  ================================================================================
+format        it is not a team message of this format (size, magic, version)
+checksum      its CRC does not match (corrupted)
+non_finite    a float is NaN or infinite
+out_of_range  a field is outside its range (player, flags, role, speeds, uncertainties, ...)
+covariance    the ball covariance is not positive semi-definite
+sender        its player number is not its sender's, or it is the receiver's own number
+off_field     the pose or the ball lies beyond the carpet (field plus border strip) by more
+              than ``margin`` (1 m by default): abs(x) > half length + border + margin or
+              abs(y) > half width + border + margin
+============  ================================================================================
 
 :func:`team_ball` fuses the own ball and the teammates' balls in the team frame. Each
 estimate counts with the inverse of its covariance, the ball covariance plus the
 reporter's pose variance (a poorly localized robot puts the ball in the wrong place),
 grown with the age of the report (``age_variance_per_second``; the ball may have moved).
 The fused mean is the information-weighted mean. This is the team-ball idea of the
-Darmstadt paper (Sec. V.B) applied to all teammates at once.
+Darmstadt paper (Sec. V.B) applied to all teammates at once. Estimates without a finite
+position or a finite, positive-definite covariance are left out. Thin, correlated ellipses
+can put the information-weighted mean far beyond every estimate; given ``limits`` (the
+:attr:`TeamState.limits` of the carpet plus margin) the fused mean is clipped into them, so
+that the team ball always lies where a ball can be.
 """
 
 from __future__ import annotations
@@ -22,8 +43,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from cognition.field import Field
 from cognition.representations import BallModel, RobotPose, SensorFrame
-from cognition.worldmodel.messages import MalformedMessageError, TeamMessage, unpack
+from cognition.worldmodel.messages import REJECT_REASONS, MalformedMessageError, TeamMessage, unpack
+
+TEAM_REJECT_REASONS = (*REJECT_REASONS, "sender", "off_field")
+"""Every reason :class:`TeamState` counts a rejected message under (module docstring)."""
 
 
 @dataclass(frozen=True)
@@ -39,31 +64,62 @@ class TeamBallEstimate:
     """Player numbers whose estimates were fused (the own number included)."""
 
 
-class TeamState:
-    """The latest valid message of every teammate (see the module docstring)."""
+def carpet_limits(field: Field, margin: float = 1.0) -> tuple[float, float]:
+    """Largest abs(x) and abs(y) (m, team frame) of anything on the carpet (the field plus its
+    border strip) or at most ``margin`` (m) beyond it."""
+    border = field.dims.border_strip + float(margin)
+    return (field.half_length + border, field.half_width + border)
 
-    def __init__(self, own_number: int, max_age: float = 3.0):
+
+class TeamState:
+    """The latest valid message of every teammate (see the module docstring).
+
+    ``field`` gives the carpet (half length, half width and border strip, m); ``margin`` (m)
+    is how far beyond it a reported pose or ball may lie; ``max_age`` (s) is how long a
+    teammate's latest message counts."""
+
+    def __init__(self, own_number: int, field: Field, max_age: float = 3.0, margin: float = 1.0):
+        if not (isinstance(max_age, int | float) and 0.0 < max_age < math.inf):
+            raise ValueError(f"TeamState.max_age must be a positive finite number of seconds, got {max_age!r}")
+        if not (isinstance(margin, int | float) and 0.0 <= margin < math.inf):
+            raise ValueError(f"TeamState.margin must be a non-negative finite distance (m), got {margin!r}")
         self.own_number = own_number
-        self.max_age = max_age
+        self.max_age = float(max_age)
+        self.limits = carpet_limits(field, margin)
+        """Largest accepted abs(x) and abs(y) (m, team frame) of a reported pose or ball."""
         self.latest: dict[int, tuple[float, TeamMessage]] = {}
         """Player number -> (time received, message)."""
         self.rejected = 0
-        """Packets that were not valid team messages."""
+        """Packets that were not valid team messages (all reasons)."""
+        self.rejected_by_reason: dict[str, int] = {}
+        """Rejected packets per reason (:data:`TEAM_REJECT_REASONS`); only reasons that occurred."""
 
     def update(self, frame: SensorFrame) -> list[TeamMessage]:
         """Read this frame's messages; returns the current (not too old) teammates' messages."""
         for m in frame.messages:
             try:
                 msg = unpack(m.payload)
-            except MalformedMessageError:
-                self.rejected += 1
+            except MalformedMessageError as e:
+                self._reject(e.reason)
                 continue
             if msg.player != m.sender or msg.player == self.own_number:
-                self.rejected += 1  # a report under a wrong name
+                self._reject("sender")  # a report under a wrong name
+                continue
+            if not self.on_carpet(msg):
+                self._reject("off_field")
                 continue
             self.latest[msg.player] = (frame.time, msg)
         self.latest = {k: v for k, v in self.latest.items() if frame.time - v[0] <= self.max_age}
         return [msg for _, msg in self.latest.values()]
+
+    def on_carpet(self, msg: TeamMessage) -> bool:
+        """Whether the message's pose and ball both lie within :attr:`limits`."""
+        lx, ly = self.limits
+        return abs(msg.x) <= lx and abs(msg.y) <= ly and abs(msg.ball_x) <= lx and abs(msg.ball_y) <= ly
+
+    def _reject(self, reason: str) -> None:
+        self.rejected += 1
+        self.rejected_by_reason[reason] = self.rejected_by_reason.get(reason, 0) + 1
 
 
 def rotate_covariance(p: NDArray[np.float64], theta: float) -> tuple[float, float, float]:
@@ -84,8 +140,12 @@ def team_ball(
     own_number: int,
     mates: Sequence[TeamMessage],
     age_variance_per_second: float = 0.25,
+    limits: tuple[float, float] | None = None,
 ) -> TeamBallEstimate | None:
-    """Information-weighted fusion of the own and the teammates' balls (team frame)."""
+    """Information-weighted fusion of the own and the teammates' balls (team frame).
+
+    ``limits``: largest abs(x) and abs(y) (m) of the fused mean (module docstring); ``None``
+    leaves it unclipped."""
     ix = ixy = iy = 0.0  # summed information matrix
     vx = vy = 0.0  # summed information vector
     who: list[int] = []
@@ -94,8 +154,8 @@ def team_ball(
         nonlocal ix, ixy, iy, vx, vy
         a, b, d = cxx + extra, cxy, cyy + extra
         det = a * d - b * b
-        if not (det > 1e-12 and math.isfinite(det)):  # degenerate or infinitely uncertain
-            return
+        if not (det > 1e-12 and math.isfinite(det) and a > 0.0 and math.isfinite(bx) and math.isfinite(by)):
+            return  # degenerate, infinitely uncertain or nowhere
         ia, ib, idd = d / det, -b / det, a / det
         ix, ixy, iy = ix + ia, ixy + ib, iy + idd
         vx += ia * bx + ib * by
@@ -116,5 +176,10 @@ def team_ball(
     if not who:
         return None
     det = ix * iy - ixy * ixy
+    if not (det > 0.0 and math.isfinite(det)):  # a sum of positive-definite terms: only by underflow
+        return None
     cxx, cxy, cyy = iy / det, -ixy / det, ix / det
-    return TeamBallEstimate(cxx * vx + cxy * vy, cxy * vx + cyy * vy, cxx, cxy, cyy, tuple(who))
+    x, y = cxx * vx + cxy * vy, cxy * vx + cyy * vy
+    if limits is not None:
+        x, y = min(max(x, -limits[0]), limits[0]), min(max(y, -limits[1]), limits[1])
+    return TeamBallEstimate(x, y, cxx, cxy, cyy, tuple(who))
