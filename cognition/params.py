@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import reprlib
 import types
 import typing
 from collections.abc import Mapping
@@ -37,6 +38,18 @@ def from_mapping(cls: type[T], data: Mapping[str, Any] | str, where: str = "", b
     Keys missing from ``data`` keep the value of ``base`` (or the class default). A class
     with a ``PRESETS`` dict (name -> instance) also accepts a preset name instead of a
     mapping, and a mapping with a ``"preset"`` key starts from that preset.
+
+    Errors name the key path, e.g. ``MatchConfig.physics.robot.radius`` (``where`` is the
+    path of ``data`` itself; it defaults to the class name):
+
+    - ``ValueError``: an unknown key (the message lists the valid ones) or preset, a value
+      outside a ``Literal``, or a value the dataclass rejects (its own message, with the class
+      name replaced by the path);
+    - ``TypeError``: a value of the wrong type for its annotation (``str``, ``int``,
+      ``float``, ``bool``, ``Literal``, a union of these with ``None``, fixed-length
+      ``tuple``), a nested dataclass field given anything but a mapping, a preset name or an
+      instance, or a missing key that has no default. JSON lists are accepted (and stored as
+      tuples) where the annotation is a tuple.
     """
     if not dataclasses.is_dataclass(cls):
         raise TypeError(f"{cls!r} is not a dataclass")
@@ -44,33 +57,158 @@ def from_mapping(cls: type[T], data: Mapping[str, Any] | str, where: str = "", b
     presets: Mapping[str, Any] | None = getattr(cls, "PRESETS", None)
     if isinstance(data, str):
         if presets is None:
-            raise TypeError(f"{label}: expected a mapping, got the string {data!r}")
+            raise TypeError(f"{label}: expected a mapping, got the string {_short(data)}")
         data = {"preset": data}
     if not isinstance(data, Mapping):
         raise TypeError(f"{label}: expected a mapping, got {type(data).__name__}")
     data = dict(data)
     if presets is not None and "preset" in data:
         name = data.pop("preset")
-        if name not in presets:
-            raise ValueError(f"unknown {label} preset {name!r}; valid presets: {sorted(presets)}")
+        if not isinstance(name, str) or name not in presets:
+            raise ValueError(f"unknown {label} preset {_short(name)}; valid presets: {sorted(presets)}")
         base = presets[name]
     hints = typing.get_type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
-    unknown = sorted(set(data) - set(fields))
+    unknown = sorted(set(data) - set(fields), key=str)
     if unknown:
         extra = " (or 'preset')" if presets is not None else ""
         raise ValueError(f"unknown {label} key(s) {unknown}; valid keys: {sorted(fields)}{extra}")
+    if base is None:
+        missing = sorted(n for n, f in fields.items() if n not in data and _has_no_default(f))
+        if missing:
+            raise TypeError(f"{label}: missing key(s) {missing} (they have no default)")
     kwargs: dict[str, Any] = {}
     for name, value in data.items():
         hint = hints.get(name)
-        if isinstance(hint, type) and dataclasses.is_dataclass(hint) and isinstance(value, Mapping | str):
-            sub_where = f"{label}.{name}"
-            sub_base = getattr(base, name) if base is not None else _default_of(fields[name])
-            value = from_mapping(hint, value, sub_where, sub_base)
+        path = f"{label}.{name}"
+        if isinstance(hint, type) and dataclasses.is_dataclass(hint):
+            if isinstance(value, Mapping | str):
+                sub_base = getattr(base, name) if base is not None else _default_of(fields[name])
+                value = from_mapping(hint, value, path, sub_base)
+            elif not isinstance(value, hint):
+                kinds = "a mapping, a preset name" if getattr(hint, "PRESETS", None) is not None else "a mapping"
+                raise TypeError(f"{path}: expected {kinds} or {hint.__name__}, got {_kind(value)}")
+        else:
+            value = _checked(hint, value, path)
         kwargs[name] = value
-    if base is not None:
-        return dataclasses.replace(base, **kwargs)  # type: ignore[type-var]
-    return cls(**kwargs)
+    try:
+        if base is not None:
+            return dataclasses.replace(base, **kwargs)  # type: ignore[type-var]
+        return cls(**kwargs)
+    except (ValueError, TypeError) as exc:
+        located = _at_path(exc, cls.__name__, label)
+        if located is exc:
+            raise
+        raise located from exc
+
+
+_SCALARS: dict[type, str] = {bool: "true or false", int: "an integer", float: "a number", str: "a string"}
+
+
+def _checked(hint: Any, value: Any, path: str) -> Any:
+    """``value`` if it fits the annotation ``hint`` (lists become tuples); ``TypeError`` otherwise.
+
+    Annotations this does not understand (callables, arrays, unions of classes) pass the
+    value through: the dataclass checks it.
+    """
+    wanted = _describe(hint)
+    if wanted is None:
+        return value
+    if isinstance(hint, type) or typing.get_origin(hint) in (typing.Literal, typing.Union, types.UnionType):
+        if _fits(hint, value):
+            return value
+        choices = typing.get_args(hint) if typing.get_origin(hint) is typing.Literal else ()
+        error = ValueError if any(type(value) is type(c) for c in choices) else TypeError  # a value outside the set
+        raise error(f"{path}: expected {wanted}, got {_kind(value)}")
+    # a tuple annotation
+    if not isinstance(value, list | tuple):
+        raise TypeError(f"{path}: expected {wanted}, got {_kind(value)}")
+    args = typing.get_args(hint)
+    items = args[:1] * len(value) if len(args) == 2 and args[1] is Ellipsis else args
+    if len(items) != len(value):
+        raise TypeError(f"{path}: expected {wanted}, got {len(value)} item(s)")
+    return tuple(_checked(h, v, f"{path}[{i}]") for i, (h, v) in enumerate(zip(items, value, strict=True)))
+
+
+def _describe(hint: Any) -> str | None:
+    """Words for the values ``hint`` allows, or ``None`` if :func:`_checked` does not check it."""
+    if hint in _SCALARS:
+        return _SCALARS[hint]
+    if hint is type(None):
+        return "null"
+    origin = typing.get_origin(hint)
+    args = typing.get_args(hint)
+    if origin is typing.Literal:
+        return "one of " + ", ".join(repr(a) for a in args)
+    if origin in (typing.Union, types.UnionType):
+        parts = [_describe(a) for a in args]
+        return None if any(p is None for p in parts) else " or ".join(p for p in parts if p is not None)
+    if origin is tuple and args:
+        if len(args) == 2 and args[1] is Ellipsis:
+            inner = _describe(args[0])
+            return None if inner is None else f"a list of {inner.removeprefix('a ').removeprefix('an ')} values"
+        parts = [_describe(a) for a in args]
+        if any(p is None for p in parts):
+            return None
+        return f"a list of {len(args)} items ({', '.join(p for p in parts if p is not None)})"
+    return None
+
+
+def _fits(hint: Any, value: Any) -> bool:
+    """Whether ``value`` is allowed by the scalar, ``Literal`` or union annotation ``hint``."""
+    if hint is type(None):
+        return value is None
+    if hint is bool:
+        return isinstance(value, bool)
+    if hint is int:
+        return isinstance(value, int) and not isinstance(value, bool)
+    if hint is float:
+        return isinstance(value, int | float) and not isinstance(value, bool)
+    if hint is str:
+        return isinstance(value, str)
+    origin = typing.get_origin(hint)
+    if origin is typing.Literal:
+        return any(type(value) is type(a) and value == a for a in typing.get_args(hint))
+    return any(_fits(a, value) for a in typing.get_args(hint))
+
+
+def _at_path(exc: ValueError | TypeError, owner: str, label: str) -> ValueError | TypeError:
+    """``exc`` with its message naming the key path ``label`` instead of the class ``owner``.
+
+    The checks of the parameters dataclasses write ``Owner.field must ...``; that prefix
+    becomes ``label.field``. Any other message gets ``label: `` in front.
+    """
+    message = str(exc)
+    if message.startswith(f"{owner}."):
+        located = label + message[len(owner) :]
+    elif message.startswith(f"{label}.") or message.startswith(f"{label}:"):
+        return exc
+    else:
+        located = f"{label}: {message}"
+    if len(exc.args) <= 1:
+        exc.args = (located,)
+        if str(exc) == located:
+            return exc
+    return (TypeError if isinstance(exc, TypeError) else ValueError)(located)
+
+
+def _kind(value: Any) -> str:
+    """``type value`` for an error message, the value shortened."""
+    return f"{type(value).__name__} {_short(value)}"
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    """``repr(value)``, cut to about ``limit`` characters."""
+    shortener = reprlib.Repr()
+    shortener.maxstring = shortener.maxother = limit
+    shortener.maxlist, shortener.maxdict, shortener.maxlevel = 6, 4, 2
+    text = shortener.repr(value)
+    return text if len(text) <= limit + 20 else text[:limit] + "..."
+
+
+def _has_no_default(f: dataclasses.Field[Any]) -> bool:
+    """Whether the field needs a value (no default and no default factory)."""
+    return f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
 
 
 def _default_of(f: dataclasses.Field[Any]) -> Any:

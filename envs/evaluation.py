@@ -18,7 +18,9 @@ actions for ``model="random"``) and returns an :class:`EvaluationReport`: goals 
 against, outcome counts and returns. Episode ``i`` is reset with a seed derived from
 ``(seed, i)`` (:func:`episode_seed`), so a trained policy and the random baseline meet the
 same situations. With ``out`` it appends one JSON line per episode as it finishes and, run
-again, skips the episodes the file already holds. The environment keyword arguments default
+again, skips the episodes the file already holds; a file with episodes of another evaluation
+(another model file or content - each line carries the model's SHA-256 -, environment,
+environment arguments or seed) is refused, never mixed. The environment keyword arguments default
 to those the model was trained with (its ``config.json``); ``env_kwargs`` override them. For
 ``soccer_v0`` an episode is a match: the shared policy plays every agent of the controlled
 team(s), goals are counted from the first agent's team's view and the outcome is ``won``,
@@ -27,6 +29,7 @@ team(s), goals are counted from the first agent's team's view and the outcome is
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import time
@@ -39,7 +42,17 @@ from typing import Any
 import gymnasium
 import numpy as np
 
-from envs.training import ALGOS, agent_spaces, algo_class, check_env_id, jsonable, make_env, set_torch_threads
+from envs.training import (
+    ALGOS,
+    MAX_SEED,
+    agent_spaces,
+    algo_class,
+    check_env_id,
+    check_env_kwargs,
+    jsonable,
+    make_env,
+    set_torch_threads,
+)
 
 
 @dataclass
@@ -167,8 +180,21 @@ def load_model(model_path: str | Path) -> Any:
     raise ValueError(f"cannot load {path} as a Stable-Baselines3 model: {'; '.join(errors)}")
 
 
+def model_digest(model_path: str | Path) -> str:
+    """SHA-256 (hex) of a saved model file: two evaluations of different models never share a log."""
+    digest = hashlib.sha256()
+    with Path(model_path).open("rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
 def _read_jsonl(path: Path, key: dict[str, Any]) -> list[dict[str, Any]]:
-    """Episodes already in ``path`` that belong to this evaluation (``key``); rewrites a torn last line."""
+    """Episodes already in ``path`` that belong to this evaluation (``key``); rewrites a torn last line.
+
+    ``ValueError`` naming the file and line for a line of another evaluation or one that is
+    no episode record.
+    """
     if not path.is_file():
         return []
     good: list[dict[str, Any]] = []
@@ -181,6 +207,9 @@ def _read_jsonl(path: Path, key: dict[str, Any]) -> list[dict[str, Any]]:
         except json.JSONDecodeError:
             torn = True  # an interrupted write; the episode is played again
             continue
+        episode = entry.get("episode") if isinstance(entry, dict) else None
+        if not isinstance(episode, int) or isinstance(episode, bool) or episode < 0:
+            raise ValueError(f"{path} line {number} is no episode record of 'teamsim evaluate'; use another --out file")
         for k, v in key.items():
             if entry.get(k) != v:
                 raise ValueError(
@@ -209,18 +238,24 @@ def evaluate(
     a model whose spaces do not fit the environment.
     """
     check_env_id(env_id)
-    if not isinstance(episodes, int) or episodes < 1:
+    if not isinstance(episodes, int) or isinstance(episodes, bool) or episodes < 1:
         raise ValueError(f"episodes must be a positive integer, got {episodes!r}")
+    if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed <= MAX_SEED:
+        raise ValueError(f"seed must be an integer in 0..{MAX_SEED}, got {seed!r}")
+    if out is not None and Path(out).exists() and not Path(out).is_file():
+        raise ValueError(f"out {out} exists and is not a file (a JSONL file of episodes)")
     model = None
     kwargs: dict[str, Any] = {}
     name = str(model_path)
+    digest = None
     if name != "random":
         set_torch_threads(torch_threads)
         model = load_model(model_path)
+        digest = model_digest(model_path)
         trained = _training_config(Path(model_path))
         if trained is not None:
             kwargs.update(trained.get("env_kwargs") or {})
-    kwargs.update(env_kwargs or {})
+    kwargs.update(check_env_kwargs(env_kwargs))
     env = make_env(env_id, kwargs)
     try:
         obs_space, act_space = agent_spaces(env_id, env)
@@ -231,7 +266,13 @@ def evaluate(
                 f"{obs_space} and {act_space} (check --action-type and the environment arguments)"
             )
         report = EvaluationReport(model=name, env_id=env_id, seed=seed, env_kwargs=jsonable(kwargs))
-        key = {"model": name, "env_id": env_id, "eval_seed": seed, "env_kwargs": report.env_kwargs}
+        key = {
+            "model": name,
+            "model_sha256": digest,
+            "env_id": env_id,
+            "eval_seed": seed,
+            "env_kwargs": report.env_kwargs,
+        }
         path = Path(out) if out is not None else None
         done: dict[int, dict[str, Any]] = {}
         if path is not None:

@@ -39,15 +39,20 @@ option                meaning
                       to whole rollouts of ``n_steps`` x slots)
 ``out_dir``           ``config.json`` (written first), ``checkpoints/`` (``ALGO_<steps>_steps.zip``),
                       ``monitor/`` (per-episode CSV of the Gymnasium tasks), ``tb/`` (TensorBoard, when
-                      tensorboard is installed) and ``model.zip`` at the end
-``seed``              seeds the policy, the environments (copy ``i`` gets ``seed + i``) and SB3
-``env_kwargs``        keyword arguments of the environment (:class:`envs.core.EnvConfig` fields)
-``n_envs``            environment copies (default 4 for the tasks, 1 match for ``soccer_v0``)
+                      tensorboard is installed) and ``model.zip`` at the end. A directory that holds a model
+                      or checkpoints is refused unless ``resume`` or ``overwrite`` is given
+``seed``              seeds the policy, the environments (copy ``i`` gets ``seed + i``) and SB3; 0..2**31 - 1
+``env_kwargs``        keyword arguments of the environment (:class:`envs.core.EnvConfig` fields; another key
+                      is an error naming it)
+``n_envs``            environment copies, 1..256 (default 4 for the tasks, 1 match for ``soccer_v0``)
 ``checkpoint_every``  environment steps between checkpoints (default 10,000)
 ``progress_bar``      SB3's progress bar (needs tqdm and rich)
-``hyperparams``       keyword arguments of the SB3 algorithm over :data:`DEFAULT_HYPERPARAMS`
+``hyperparams``       keyword arguments of the SB3 algorithm over :data:`DEFAULT_HYPERPARAMS`; checked
+                      before anything is written (:func:`check_hyperparams`)
 ``resume``            continue from the latest checkpoint in ``out_dir/checkpoints`` (the environments
                       start new episodes, so a resumed run is not bit-identical to an uninterrupted one)
+``overwrite``         delete the earlier run's files in ``out_dir`` (``model.zip``, ``config.json``,
+                      checkpoints, monitor CSVs, TensorBoard runs; nothing else) before training
 ``torch_threads``     torch CPU threads (default 1: on 2 busy cores a second OpenMP thread made the PPO update
                       up to 100 times slower; None leaves torch's setting)
 ====================  ==========================================================================================
@@ -65,8 +70,12 @@ best constant macro-action scores too.
 
 from __future__ import annotations
 
+import dataclasses
+import inspect
 import json
+import math
 import re
+import shutil
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -87,7 +96,40 @@ DEFAULT_HYPERPARAMS: dict[str, dict[str, Any]] = {
 """Hyperparameters of each algorithm unless ``hyperparams`` overrides them."""
 CHECKPOINT_EVERY = 10_000
 """Default environment steps between checkpoints."""
+MAX_SEED = 2**31 - 1
+"""Largest seed of :func:`train` and :func:`envs.evaluation.evaluate` (numpy's legacy seeding takes 32 bits,
+and a resumed run seeds with ``seed + steps``)."""
+MAX_ENVS = 256
+"""Most environment copies :func:`train` builds."""
 _CHECKPOINT = re.compile(r"^(?P<algo>[a-z0-9]+)_(?P<steps>\d+)_steps\.zip$")
+_TB_RUN = re.compile(r"^(" + "|".join(ALGOS) + r")_\d+$")
+_MONITOR = re.compile(r"^\d+\.monitor\.csv$")
+_SET_BY_TRAIN = ("policy", "env", "seed", "device", "tensorboard_log", "verbose", "_init_setup_model")
+"""Constructor arguments of the SB3 algorithms that :func:`train` sets itself (not hyperparameters)."""
+_NUMERIC_HYPERPARAMS: dict[str, tuple[type, float, float, bool]] = {
+    # name: (int or float, low, high, low excluded); None is allowed for clip_range_vf and target_kl
+    "learning_rate": (float, 0.0, math.inf, True),
+    "n_steps": (int, 1, 1_000_000, False),
+    "batch_size": (int, 1, 1_000_000, False),
+    "n_epochs": (int, 1, 10_000, False),
+    "gamma": (float, 0.0, 1.0, False),
+    "gae_lambda": (float, 0.0, 1.0, False),
+    "clip_range": (float, 0.0, math.inf, True),
+    "clip_range_vf": (float, 0.0, math.inf, True),
+    "ent_coef": (float, 0.0, math.inf, False),
+    "vf_coef": (float, 0.0, math.inf, False),
+    "max_grad_norm": (float, 0.0, math.inf, True),
+    "target_kl": (float, 0.0, math.inf, True),
+    "buffer_size": (int, 1, 10_000_000, False),
+    "learning_starts": (int, 0, 10**12, False),
+    "tau": (float, 0.0, 1.0, False),
+    "gradient_steps": (int, -1, 1_000_000, False),
+    "target_update_interval": (int, 1, 10**12, False),
+    "sde_sample_freq": (int, -1, 10**12, False),
+    "rms_prop_eps": (float, 0.0, math.inf, True),
+    "stats_window_size": (int, 1, 1_000_000, False),
+}
+_FLAG_HYPERPARAMS = ("normalize_advantage", "use_sde", "use_rms_prop", "optimize_memory_usage", "use_sde_at_warmup")
 
 
 class TrainingDependencyError(ImportError):
@@ -120,10 +162,91 @@ def check_env_id(env_id: str) -> None:
         raise ValueError(f"unknown environment {env_id!r}; valid: {list(ENV_IDS)}")
 
 
+def check_env_kwargs(env_kwargs: Mapping[str, Any] | None) -> dict[str, Any]:
+    """``env_kwargs`` as a dict; ``ValueError`` naming a key that is no :class:`envs.core.EnvConfig` field.
+
+    ``TypeError`` if it is no mapping. The values are checked by the environment when it is built.
+    """
+    from envs.core import EnvConfig
+
+    if env_kwargs is None:
+        return {}
+    if not isinstance(env_kwargs, Mapping):
+        raise TypeError(f"env_kwargs must be a mapping of EnvConfig fields, got {type(env_kwargs).__name__}")
+    valid = sorted(f.name for f in dataclasses.fields(EnvConfig))
+    unknown = sorted(str(k) for k in env_kwargs if k not in valid)
+    if unknown:
+        raise ValueError(f"unknown env_kwargs key(s) {unknown}; valid keys: {valid}")
+    return dict(env_kwargs)
+
+
+def check_hyperparams(algo: str, hyperparams: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The SB3 keyword arguments of ``algo`` in ``hyperparams``, checked; errors name the key.
+
+    Unknown keys and the arguments :func:`train` sets itself are a ``ValueError`` listing the
+    valid keys. Numbers (learning rate, rollout and batch sizes, discounts, coefficients, buffer
+    size ...) must have the right type (``TypeError``) and lie in their range (``ValueError``;
+    sizes are bounded so that a typo cannot ask for more memory than a machine has). SAC's
+    ``ent_coef`` may also be ``"auto"`` or ``"auto_<initial value>"`` and its ``train_freq`` a
+    pair ``[n, "step" | "episode"]``. Other values (``policy_kwargs`` contents, ...) are left to
+    the algorithm, whose errors :func:`train` reports naming the keys given.
+    """
+    cls = algo_class(algo)
+    if hyperparams is None:
+        return {}
+    if not isinstance(hyperparams, Mapping):
+        raise TypeError(f"hyperparams must be a mapping of {algo} arguments, got {type(hyperparams).__name__}")
+    accepted = set(inspect.signature(cls.__init__).parameters) - {"self", *_SET_BY_TRAIN}
+    params = dict(hyperparams)
+    reserved = sorted(str(k) for k in params if k in _SET_BY_TRAIN)
+    if reserved:
+        raise ValueError(f"hyperparams {reserved}: set by train() itself (seed, device, logging), not a hyperparameter")
+    unknown = sorted(str(k) for k in params if k not in accepted)
+    if unknown:
+        raise ValueError(f"unknown hyperparams key(s) {unknown} for {algo}; valid keys: {sorted(accepted)}")
+    for key, value in params.items():
+        where = f"hyperparams.{key}"
+        if key in _FLAG_HYPERPARAMS and not isinstance(value, bool):
+            raise TypeError(f"{where}: expected true or false, got {type(value).__name__} {value!r}")
+        if key == "policy_kwargs" and value is not None and not isinstance(value, Mapping):
+            raise TypeError(f"{where}: expected a mapping, got {type(value).__name__}")
+        if key == "ent_coef" and algo == "sac" and isinstance(value, str):
+            if not re.fullmatch(r"auto(_\d+(\.\d*)?([eE][-+]?\d+)?)?", value):
+                raise ValueError(f"{where}: expected a number >= 0, 'auto' or 'auto_<initial value>', got {value!r}")
+            continue
+        if key == "train_freq" and isinstance(value, list | tuple):
+            if len(value) != 2 or value[1] not in ("step", "episode"):
+                raise ValueError(f"{where}: expected an integer or [n, 'step' | 'episode'], got {value!r}")
+            params[key] = (_number(where, value[0], (int, 1, 10**12, False)), value[1])
+            continue
+        if key == "train_freq":
+            _number(where, value, (int, 1, 10**12, False))
+        if key in _NUMERIC_HYPERPARAMS and not (value is None and key in ("clip_range_vf", "target_kl")):
+            _number(where, value, _NUMERIC_HYPERPARAMS[key])
+    return params
+
+
+def _number(where: str, value: Any, rule: tuple[type, float, float, bool]) -> Any:
+    """``value`` if it is a number of ``rule`` (type, low, high, low excluded); errors name ``where``."""
+    kind, low, high, open_low = rule
+    numeric = isinstance(value, int | float) and not isinstance(value, bool)
+    if not numeric or (kind is int and not isinstance(value, int)):
+        wanted = "an integer" if kind is int else "a number"
+        raise TypeError(f"{where}: expected {wanted}, got {type(value).__name__} {value!r}")
+    if not math.isfinite(value) or value < low or (open_low and value == low) or value > high:
+        interval = f"{'(' if open_low else '['}{low:g}, {high:g}]"
+        raise ValueError(f"{where} must be in {interval}, got {value!r}")
+    return value
+
+
 def make_env(env_id: str, env_kwargs: Mapping[str, Any] | None = None) -> Any:
-    """One environment: a Gymnasium env for the tasks, a PettingZoo parallel env for ``soccer_v0``."""
+    """One environment: a Gymnasium env for the tasks, a PettingZoo parallel env for ``soccer_v0``.
+
+    Raises ``ValueError`` for an unknown environment or an ``env_kwargs`` key that is no
+    :class:`envs.core.EnvConfig` field (:func:`check_env_kwargs`).
+    """
     check_env_id(env_id)
-    kwargs = dict(env_kwargs or {})
+    kwargs = check_env_kwargs(env_kwargs)
     if env_id == "soccer_v0":
         from envs import soccer_v0
 
@@ -249,12 +372,16 @@ def train(
     resume: bool = False,
     torch_threads: int | None = 1,
     verbose: int = 0,
+    overwrite: bool = False,
 ) -> Path:
     """Train a policy on ``env_id`` and save it; returns the path of ``out_dir/model.zip``.
 
-    Options in the module table. Raises ``ValueError`` for an unknown environment or
-    algorithm, non-positive ``timesteps``/``n_envs``/``checkpoint_every``, SAC with
-    discrete actions, or checkpoints in ``out_dir`` without ``resume``.
+    Options in the module table. Everything is checked before anything is written: raises
+    ``ValueError`` for an unknown environment or algorithm, ``timesteps``, ``n_envs``,
+    ``checkpoint_every`` or ``seed`` out of range, bad ``env_kwargs`` or ``hyperparams``
+    (naming the key), SAC with discrete actions, ``resume`` with ``overwrite``, a model or
+    checkpoints in ``out_dir`` without ``resume`` or ``overwrite``, ``resume`` of a run with
+    another environment or algorithm, or ``resume`` of a finished run without checkpoints.
     """
     check_env_id(env_id)
     cls = algo_class(algo)
@@ -262,19 +389,37 @@ def train(
         raise ValueError(f"timesteps must be a positive integer, got {timesteps!r}")
     if n_envs is None:
         n_envs = 1 if env_id == "soccer_v0" else 4
-    if not isinstance(n_envs, int) or n_envs < 1:
-        raise ValueError(f"n_envs must be a positive integer, got {n_envs!r}")
-    if not isinstance(checkpoint_every, int) or checkpoint_every < 1:
+    if not isinstance(n_envs, int) or isinstance(n_envs, bool) or not 1 <= n_envs <= MAX_ENVS:
+        raise ValueError(f"n_envs must be an integer in 1..{MAX_ENVS}, got {n_envs!r}")
+    if not isinstance(checkpoint_every, int) or isinstance(checkpoint_every, bool) or checkpoint_every < 1:
         raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
-    env_kwargs = dict(env_kwargs or {})
+    if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed <= MAX_SEED:
+        raise ValueError(f"seed must be an integer in 0..{MAX_SEED}, got {seed!r}")
+    if resume and overwrite:
+        raise ValueError("resume and overwrite exclude each other: continue the run in out_dir or replace it")
+    env_kwargs = check_env_kwargs(env_kwargs)
+    user_params = check_hyperparams(algo, hyperparams)
     _, action_space = _spaces(env_id, env_kwargs)  # also checks the env arguments before anything is written
     if algo == "sac" and not isinstance(action_space, gymnasium.spaces.Box):
         raise ValueError("sac needs continuous actions; use action_type='continuous' or algo 'ppo'/'a2c'")
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"out_dir {out} exists and is not a directory")
     checkpoint = latest_checkpoint(out)
-    if checkpoint is not None and not resume:
-        raise ValueError(f"{out} already holds checkpoints of a run; pass resume=True (--resume) or another out_dir")
-    params = {**DEFAULT_HYPERPARAMS[algo], **dict(hyperparams or {})}
+    has_model = (out / "model.zip").exists()
+    if (checkpoint is not None or has_model) and not (resume or overwrite):
+        found = (("checkpoints", checkpoint is not None), ("model.zip", has_model))
+        held = " and ".join(name for name, present in found if present)
+        raise ValueError(
+            f"{out} already holds {held} of a run; pass resume=True (--resume) to continue it, "
+            "overwrite=True (--overwrite) to replace it, or another out_dir"
+        )
+    if resume and checkpoint is None and has_model:
+        raise ValueError(
+            f"cannot resume: {out} holds model.zip but no checkpoint to continue from; "
+            "pass overwrite=True (--overwrite) to replace it, or another out_dir"
+        )
+    params = {**DEFAULT_HYPERPARAMS[algo], **user_params}
     config = {
         "env_id": env_id,
         "algo": algo,
@@ -294,6 +439,9 @@ def train(
         for key in ("env_id", "algo", "env_kwargs"):
             if before.get(key) != config[key]:
                 raise ValueError(f"cannot resume: {key} was {before.get(key)!r} in {out}, now {config[key]!r}")
+    if overwrite:
+        checkpoint = None
+        _delete_run(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.json").write_text(json.dumps(config, indent=2) + "\n")
 
@@ -309,7 +457,13 @@ def train(
         model = cls.load(checkpoint, env=venv, device="cpu", tensorboard_log=tb)
         model.set_random_seed(seed + model.num_timesteps)
     else:
-        model = cls("MlpPolicy", venv, seed=seed, device="cpu", tensorboard_log=tb, verbose=verbose, **params)
+        try:
+            model = cls("MlpPolicy", venv, seed=seed, device="cpu", tensorboard_log=tb, verbose=verbose, **params)
+        except (AssertionError, ValueError, TypeError) as exc:  # SB3 checks its arguments with assert
+            venv.close()
+            if not user_params:
+                raise
+            raise ValueError(f"hyperparams {sorted(user_params)}: {algo} rejects them: {exc}") from exc
     remaining = timesteps - model.num_timesteps
     callback = CheckpointCallback(
         save_freq=max(1, checkpoint_every // slots), save_path=str(out / "checkpoints"), name_prefix=algo
@@ -330,6 +484,23 @@ def train(
         venv.close()
     model.save(out / "model.zip")
     return out / "model.zip"
+
+
+def _delete_run(out: Path) -> None:
+    """Delete what :func:`train` wrote into ``out`` (and nothing else): model, config, checkpoints, logs."""
+    for name in ("model.zip", "config.json"):
+        (out / name).unlink(missing_ok=True)
+    for folder, pattern in (("checkpoints", _CHECKPOINT), ("monitor", _MONITOR), ("tb", _TB_RUN)):
+        path = out / folder
+        if not path.is_dir():
+            continue
+        for item in path.iterdir():
+            if pattern.match(item.name) and item.is_dir():
+                shutil.rmtree(item)
+            elif pattern.match(item.name):
+                item.unlink()
+        if not any(path.iterdir()):
+            path.rmdir()
 
 
 def set_torch_threads(threads: int | None) -> None:
