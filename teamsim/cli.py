@@ -17,18 +17,37 @@ evaluate       play episodes with a trained model or random actions; report goal
 
 ``teamsim match --out DIR`` writes ``config.json`` first, appends every event to
 ``events.jsonl`` as it happens (an interrupted run keeps what it computed), and writes
-``summary.json`` at the end.
+``summary.json`` at the end. Two runs never mix: ``match``, ``camera`` and ``train`` refuse an
+``--out`` directory that holds the results of an earlier run unless ``--overwrite`` is given,
+which deletes those results (only the files the command writes) before the new run starts;
+``train --resume`` continues the run in the directory instead.
+
+Options override the ``--config`` file only when they are given (``--seed`` included: without
+it the file's seed, or 0, is used).
+
+Bad input never ends in a traceback: the command exits with code 2 after one line on stderr,
+``teamsim COMMAND: error: ...``, that names the option, or the file and the key path
+(``config file c.json: MatchConfig.physics.robot: expected a mapping or RobotParams, got int 5``).
+A traceback means a bug in teamsim.
+
+``match --video`` opens the video file before the match, so a path that cannot be written is
+such an error (code 2). A video that fails during the match (a full disk) stops only the video:
+the match plays on, its summary is printed and written, and the command exits with code 1 after
+one line on stderr naming the video and its error.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import json
+import math
+import re
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any, NoReturn, TextIO
 
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
 from cognition.localization import VARIANTS
@@ -39,13 +58,70 @@ from teamsim.image_params import ImageParams
 from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, PLAYERS, Match, MatchConfig
 from teamsim.percept_params import PerceptParams
 
+IMAGE_SIDE_PX = (16, 4096)
+"""Smallest and largest image width or height (px) that ``--size`` accepts."""
+MAX_JSON_DEPTH = 32
+"""Deepest nesting of objects and arrays in ``--config``, ``--env-kwargs`` and ``--hyperparams``."""
+MAX_CONFIG_BYTES = 16 * 2**20
+"""Largest ``--config`` file (bytes)."""
+MAX_MESSAGE_CHARS = 1000
+"""Longest error line; the rest of a longer message is cut off."""
+MAX_SEED = 2**63 - 1
+"""Largest ``--seed`` of a match (a numpy seed); training uses :data:`envs.training.MAX_SEED`."""
+MATCH_RESULTS = ("config.json", "events.jsonl", "summary.json")
+"""The files ``teamsim match --out DIR`` writes into DIR (and ``--overwrite`` deletes)."""
+_SNAPSHOT = re.compile(r"^t\d+\.\d\d_team\d+_player\d+(_annotated)?\.png$")
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line: ``teamsim COMMAND: error: ...``."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _integer(low: int, high: int) -> Callable[[str], int]:
+    """An argparse type: an integer in ``low..high``."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer in {low}..{high}, got {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"must be in {low}..{high}, got {value}")
+        return value
+
+    return parse
+
+
+def _number(low: float, inclusive: bool, what: str) -> Callable[[str], float]:
+    """An argparse type: a finite number above ``low`` (or equal to it, if ``inclusive``)."""
+    bound = f">= {low:g}" if inclusive else f"> {low:g}"
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {what} {bound}, got {text!r}") from None
+        if not math.isfinite(value) or value < low or (value == low and not inclusive):
+            raise argparse.ArgumentTypeError(f"must be {what} {bound}, got {text!r}")
+        return value
+
+    return parse
+
 
 def _common_args(p: Any) -> None:
     """Options shared by the subcommands that run a match."""
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument(
+        "--seed",
+        type=_integer(0, MAX_SEED),
+        default=None,
+        help="random seed (default: the --config file's seed, else 0)",
+    )
     p.add_argument(
         "--players-per-team",
-        type=int,
+        type=_integer(1, MAX_PLAYERS_PER_TEAM),
         default=None,
         help=f"robots per team, 1..{MAX_PLAYERS_PER_TEAM} (default 5)",
     )
@@ -90,7 +166,12 @@ def _match_parser(sub: Any) -> None:
         default=None,
         help="obstacle model of the localizing players (default: sectors)",
     )
-    p.add_argument("--half-seconds", type=float, default=None, help="length of a half in seconds (default 600)")
+    p.add_argument(
+        "--half-seconds",
+        type=_number(0.0, False, "a number of seconds"),
+        default=None,
+        help="length of a half in seconds (default 600)",
+    )
     p.add_argument(
         "--rules",
         choices=["spl2025", "spl2010"],
@@ -110,7 +191,12 @@ def _match_parser(sub: Any) -> None:
         help="what sensor frames carry: synthesized percepts, rendered images or nothing (default percepts)",
     )
     p.add_argument("--video", type=Path, default=None, help="write a video (.mp4 or .gif) of the match")
-    p.add_argument("--video-fps", type=float, default=10.0, help="frames per simulated second in the video")
+    p.add_argument(
+        "--video-fps",
+        type=_number(0.0, False, "a number"),
+        default=10.0,
+        help="frames per simulated second in the video",
+    )
     p.add_argument(
         "--video-robot",
         default="auto",
@@ -123,36 +209,65 @@ def _match_parser(sub: Any) -> None:
         action="store_true",
         help="draw the particles and the estimated pose of the --video-robot robot (needs --localization)",
     )
-    p.add_argument("--out", type=Path, default=None, help="directory for config.json, events.jsonl, summary.json")
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="directory for config.json, events.jsonl, summary.json (refused if it holds them: see --overwrite)",
+    )
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="delete the results of an earlier run in --out (config.json, events.jsonl, summary.json) first",
+    )
     p.add_argument("--events", action="store_true", help="also print the event log")
 
 
 def _camera_parser(sub: Any) -> None:
     p = sub.add_parser("camera", help="write robots' camera images of a match as PNG (with annotations)")
     _common_args(p)
-    p.add_argument("--time", type=float, nargs="+", default=[30.0], help="match times to take pictures at (s)")
+    p.add_argument(
+        "--time",
+        type=_number(0.0, True, "a number of seconds"),
+        nargs="+",
+        default=[30.0],
+        help="match times to take pictures at (s)",
+    )
     p.add_argument("--robot", nargs="+", default=["all"], help="TEAM:NUMBER robots, or 'all' (default)")
-    p.add_argument("--size", default="320x240", help="image size WIDTHxHEIGHT (default 320x240)")
-    p.add_argument("--out", type=Path, required=True, help="directory for the PNG files")
+    p.add_argument("--size", default="320x240", help=_SIZE_HELP)
+    p.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        help="directory for the PNG files (refused if it holds pictures of a run: see --overwrite)",
+    )
+    p.add_argument("--overwrite", action="store_true", help="delete the pictures of an earlier run in --out first")
 
 
 def _gallery_parser(sub: Any) -> None:
     p = sub.add_parser("gallery", help="render the README gallery of camera images")
     p.add_argument("--out", type=Path, default=Path("docs/gallery"), help="directory (default docs/gallery)")
-    p.add_argument("--size", default="320x240", help="image size WIDTHxHEIGHT (default 320x240)")
+    p.add_argument("--size", default="320x240", help=_SIZE_HELP)
+
+
+_SIZE_HELP = f"image size WIDTHxHEIGHT, {IMAGE_SIDE_PX[0]}..{IMAGE_SIDE_PX[1]} px each (default 320x240)"
 
 
 def _size(text: str) -> tuple[int, int]:
+    """``--size WIDTHxHEIGHT`` in pixels, each side in :data:`IMAGE_SIDE_PX`."""
+    low, high = IMAGE_SIDE_PX
     try:
         w, h = (int(v) for v in text.lower().split("x"))
     except ValueError:
         raise ValueError(f"--size must be WIDTHxHEIGHT in pixels, e.g. 320x240; got {text!r}") from None
+    if not (low <= w <= high and low <= h <= high):
+        raise ValueError(f"--size: width and height must be {low}..{high} px each, got {text!r}")
     return w, h
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``teamsim`` command."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="teamsim",
         description="Simulator for teams of SPL-style soccer robots with a real cognition stack.",
     )
@@ -166,18 +281,21 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def config_from_args(args: argparse.Namespace) -> MatchConfig:
-    """Merge a JSON config file and the command-line options into a :class:`MatchConfig`."""
+    """Merge a JSON config file and the command-line options into a :class:`MatchConfig`.
+
+    An option overrides the file only when it is given. The file is checked on its own first,
+    so that an error in it names the file and the key path.
+    """
     data: dict[str, Any] = {}
     if args.config is not None:
-        if not args.config.is_file():
-            raise ValueError(f"config file not found: {args.config}")
+        data = read_config_file(args.config)
         try:
-            data = json.loads(args.config.read_text())
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"config file {args.config} is not valid JSON: {exc}") from exc
-        if not isinstance(data, dict):
-            raise ValueError(f"config file {args.config} must hold a JSON object")
-    data["seed"] = args.seed
+            MatchConfig.from_mapping(data)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"config file {args.config}: {exc}") from exc
+    data = dict(data)
+    if args.seed is not None:
+        data["seed"] = args.seed
     if args.players_per_team is not None:
         data["players_per_team"] = args.players_per_team
     if args.field is not None:
@@ -185,8 +303,7 @@ def config_from_args(args: argparse.Namespace) -> MatchConfig:
     if args.colours is not None:
         data["colours"] = args.colours
     if getattr(args, "percepts", None) is not None:
-        current = data.get("percepts")
-        data["percepts"] = dict(current, preset=args.percepts) if isinstance(current, dict) else args.percepts
+        data["percepts"] = _override(data.get("percepts"), preset=args.percepts)
     if getattr(args, "observation", None) is not None:
         data["observation"] = args.observation
     if getattr(args, "localization", None) is not None:
@@ -198,16 +315,94 @@ def config_from_args(args: argparse.Namespace) -> MatchConfig:
     if getattr(args, "obstacles", None) is not None:
         data["obstacle_model"] = args.obstacles
     if args.images is not None:
-        current = data.get("images")
-        data["images"] = dict(current, preset=args.images) if isinstance(current, dict) else args.images
-    referee = dict(data.get("referee", {}))
+        data["images"] = _override(data.get("images"), preset=args.images)
+    referee: dict[str, Any] = {}
     if getattr(args, "half_seconds", None) is not None:
         referee["half_seconds"] = args.half_seconds
     if getattr(args, "rules", None) is not None:
         referee["rules"] = args.rules
     if referee:
-        data["referee"] = referee
-    return MatchConfig.from_mapping(data)
+        data["referee"] = _override(data.get("referee"), **referee)
+    try:
+        return MatchConfig.from_mapping(data)
+    except (ValueError, TypeError) as exc:
+        if args.config is None:
+            raise
+        raise ValueError(f"config file {args.config} with the command-line options: {exc}") from exc
+
+
+def _override(section: Any, **values: Any) -> dict[str, Any]:
+    """A config section (a mapping, a preset name or absent) with some of its keys replaced."""
+    if isinstance(section, Mapping):
+        return {**section, **values}
+    if isinstance(section, str):
+        return {"preset": section, **values}
+    return dict(values)
+
+
+def read_config_file(path: Path) -> dict[str, Any]:
+    """The JSON object in the ``--config`` file ``path``; ``ValueError`` naming the file otherwise.
+
+    The file must be UTF-8 JSON of at most :data:`MAX_CONFIG_BYTES` bytes, hold an object,
+    nest at most :data:`MAX_JSON_DEPTH` levels and repeat no key within an object.
+    """
+    if not path.exists():
+        raise ValueError(f"config file not found: {path}")
+    if not path.is_file():
+        raise ValueError(f"config file {path} is not a file")
+    size = path.stat().st_size
+    if size > MAX_CONFIG_BYTES:
+        raise ValueError(f"config file {path} has {size} bytes; a config file has at most {MAX_CONFIG_BYTES}")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"config file {path} is not UTF-8 text: {exc}") from None
+    value = parse_json(text, f"config file {path}")
+    if not isinstance(value, dict):
+        raise ValueError(f"config file {path} must hold a JSON object, got {_json_type(value)}")
+    return value
+
+
+def parse_json(text: str, source: str) -> Any:
+    """Parse JSON ``text`` strictly; every error is a ``ValueError`` that starts with ``source``.
+
+    Errors: not JSON, a key twice in one object (JSON would keep the last silently), or
+    objects and arrays nested deeper than :data:`MAX_JSON_DEPTH`.
+    """
+
+    def unique(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+        obj: dict[str, Any] = {}
+        for key, value in pairs:
+            if key in obj:
+                raise ValueError(f"key {key!r} appears twice in one object")
+            obj[key] = value
+        return obj
+
+    try:
+        value = json.loads(text, object_pairs_hook=unique)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{source} is not valid JSON: {exc}") from None
+    except RecursionError:
+        raise ValueError(f"{source} nests objects or arrays deeper than {MAX_JSON_DEPTH} levels") from None
+    except ValueError as exc:  # a repeated key, or an integer with more digits than Python converts
+        raise ValueError(f"{source}: {exc}") from None
+    stack = [(value, 1)]
+    while stack:
+        item, depth = stack.pop()
+        children = item.values() if isinstance(item, dict) else item if isinstance(item, list) else None
+        if children is None:
+            continue
+        if depth > MAX_JSON_DEPTH:
+            raise ValueError(f"{source} nests objects or arrays deeper than {MAX_JSON_DEPTH} levels")
+        stack.extend((child, depth + 1) for child in children)
+    return value
+
+
+def _json_type(value: Any) -> str:
+    """The JSON name of ``value``'s type, for messages."""
+    names = {dict: "an object", list: "an array", str: "a string", bool: "a boolean", int: "a number"}
+    names[float] = "a number"
+    return "null" if value is None else names.get(type(value), type(value).__name__)
 
 
 def _jsonable(obj: Any) -> Any:
@@ -221,15 +416,24 @@ def _jsonable(obj: Any) -> Any:
 def run_match(args: argparse.Namespace, out: TextIO) -> int:
     """Run ``teamsim match`` with parsed arguments."""
     config = config_from_args(args)
-    if args.video_fps <= 0:
-        raise ValueError(f"--video-fps must be > 0, got {args.video_fps}")
+    if args.video_robot not in ("auto", "none"):
+        _robot(args.video_robot, config.players_per_team, "--video-robot")
+    if args.out is not None:
+        _refuse_results(args.out, _match_results(args.out), args.overwrite)
     if args.video_particles:
         if args.video is None or args.video_robot == "none":
             raise ValueError("--video-particles needs --video and a --video-robot (auto or TEAM:NUMBER)")
         if config.localization is None:
             raise ValueError("--video-particles needs --localization (or 'localization' in --config)")
+    writer = None
+    if args.video is not None:  # before anything runs: a path that cannot be written fails at once
+        from teamsim.render import VideoWriter
+
+        writer = VideoWriter(args.video, fps=args.video_fps)
     events_file: TextIO | None = None
     if args.out is not None:
+        for stale in _match_results(args.out):  # only with --overwrite: refused above otherwise
+            stale.unlink()
         args.out.mkdir(parents=True, exist_ok=True)
         (args.out / "config.json").write_text(json.dumps(_jsonable(config), indent=2))
         events_file = (args.out / "events.jsonl").open("w")
@@ -254,28 +458,38 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
         n = config.players_per_team
         shown = (0, n) if args.video_robot == "auto" else parse_robot(args.video_robot, n)
         panel = CameraPanel(match, *shown, annotate=args.video_annotations)
-    writer = None
+    video_error: Exception | None = None  # the first failure of the video; it stops the video, not the match
     try:
         on_step = None
-        if args.video is not None:
+        if writer is not None:
             from cognition.field import make_colour_scheme
             from teamsim.camera_views import belief_overlay, side_by_side
-            from teamsim.render import TopDownRenderer, VideoWriter
+            from teamsim.render import TopDownRenderer
 
             renderer = TopDownRenderer(match.field, make_colour_scheme(config.colours))
-            writer = VideoWriter(args.video, fps=args.video_fps)
+            video = writer
             every = max(1, round(config.physics.physics_hz / args.video_fps))
 
             def on_step(m: Match) -> None:
-                if m.steps % every == 0:
+                nonlocal video_error
+                if video_error is not None or m.steps % every != 0:
+                    return
+                try:
                     beliefs = [belief_overlay(m, *shown)] if args.video_particles and shown is not None else []
                     top = renderer.render(m.snapshot(), m.game_state(), beliefs=[b for b in beliefs if b is not None])
-                    writer.write(top if panel is None else side_by_side(top, panel.render()))
+                    video.write(top if panel is None else side_by_side(top, panel.render()))
+                except Exception as exc:  # rendering or writing: reported after the summary
+                    video_error = exc
+                    with contextlib.suppress(Exception):
+                        video.close()
 
         summary = match.run(on_step=on_step)
     finally:
         if writer is not None:
-            writer.close()
+            try:
+                writer.close()
+            except OSError as exc:
+                video_error = video_error or exc
         if events_file is not None:
             events_file.close()
     print(summary.format(), file=out)
@@ -286,24 +500,74 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
     if args.out is not None:
         (args.out / "summary.json").write_text(json.dumps(summary.to_dict(), indent=2))
         print(f"results written to {args.out}", file=out)
+    if writer is not None and video_error is not None:
+        reason = " ".join(str(video_error).split()) or type(video_error).__name__
+        if not isinstance(video_error, OSError):
+            reason = f"{type(video_error).__name__}: {reason}"
+        print(
+            f"teamsim match: error: video {args.video} stopped after {writer.frame_count} frames "
+            f"(the match and its results are complete): {reason}",
+            file=sys.stderr,
+        )
+        return 1
     if args.video is not None:
         print(f"video written to {args.video}", file=out)
     return 0
 
 
+def _robot(text: str, players_per_team: int, option: str) -> tuple[int, int]:
+    """``TEAM:NUMBER`` of ``option`` as (team, number); ``ValueError`` naming the option otherwise."""
+    from teamsim.camera_views import parse_robot
+
+    try:
+        return parse_robot(text, players_per_team)
+    except ValueError as exc:
+        raise ValueError(f"{option}: {exc}") from None
+
+
+def _match_results(folder: Path) -> list[Path]:
+    """The files of an earlier ``teamsim match --out folder`` run in ``folder``."""
+    return [folder / name for name in MATCH_RESULTS if (folder / name).exists()]
+
+
+def _camera_results(folder: Path) -> list[Path]:
+    """The pictures of an earlier ``teamsim camera --out folder`` run in ``folder``."""
+    if not folder.is_dir():
+        return []
+    return sorted(p for p in folder.iterdir() if _SNAPSHOT.match(p.name))
+
+
+def _refuse_results(folder: Path, results: Sequence[Path], overwrite: bool) -> None:
+    """Raise ``ValueError`` if ``folder`` is no directory, or holds ``results`` and ``overwrite`` is false."""
+    if folder.exists() and not folder.is_dir():
+        raise ValueError(f"--out {folder} exists and is not a directory")
+    if results and not overwrite:
+        names = ", ".join(p.name for p in results[:3]) + (f" and {len(results) - 3} more" if len(results) > 3 else "")
+        raise ValueError(
+            f"--out {folder} already holds the results of a run ({names}); use --overwrite to replace them "
+            "or another directory"
+        )
+
+
 def run_camera(args: argparse.Namespace, out: TextIO) -> int:
     """Run ``teamsim camera`` with parsed arguments."""
-    from teamsim.camera_views import parse_robot, write_snapshots
+    from teamsim.camera_views import write_snapshots
 
     config = config_from_args(args)
+    size = _size(args.size)
     n = config.players_per_team
     if args.robot == ["all"]:
         robots = [(t, k) for t in (0, 1) for k in range(1, n + 1)]
     else:
-        robots = [parse_robot(text, n) for text in args.robot]
+        robots = [_robot(text, n, "--robot") for text in args.robot]
+    _refuse_results(args.out, _camera_results(args.out), args.overwrite)
     match = Match(dataclasses.replace(config, observation="none"))
-    paths = write_snapshots(match, args.time, robots, args.out, _size(args.size))
+    for stale in _camera_results(args.out):  # only with --overwrite: refused above otherwise
+        stale.unlink()
+    paths = write_snapshots(match, args.time, robots, args.out, size)
     print(f"{len(paths)} images written to {args.out}", file=out)
+    if match.finished and max(args.time) > match.time:
+        print(f"note: the match ended at {match.time:.1f} s; pictures of later --time values show its end", file=out)
     return 0
 
 
@@ -320,12 +584,17 @@ def run_gallery(args: argparse.Namespace, out: TextIO) -> int:
 # The CLI is the application shell: these handlers import envs lazily; teamsim's modules never import envs.
 
 _RL_ENV_HELP = "teamsim/Striker-v0, teamsim/Keeper-v0 or soccer_v0"
+_RL_MAX_SEED = 2**31 - 1  # the same bound as envs.training.MAX_SEED (teamsim does not import envs)
+_RL_MAX_ENVS = 256  # the same bound as envs.training.MAX_ENVS
+_MAX_STEPS = 10**12
 
 
 def _rl_env_args(p: Any) -> None:
     """Options of the environment shared by ``train`` and ``evaluate``."""
     p.add_argument("--env", required=True, help=f"environment: {_RL_ENV_HELP}")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument(
+        "--seed", type=_integer(0, _RL_MAX_SEED), default=0, help=f"random seed, 0..{_RL_MAX_SEED} (default 0)"
+    )
     p.add_argument("--observation", choices=["truth", "percepts"], default=None, help="observation mode")
     p.add_argument("--action-type", choices=["continuous", "discrete"], default=None, help="action type")
     p.add_argument(
@@ -346,12 +615,34 @@ def _train_parser(sub: Any) -> None:
     )
     _rl_env_args(p)
     p.add_argument("--algo", default="ppo", help="ppo (default), a2c or sac (continuous actions only)")
-    p.add_argument("--timesteps", type=int, required=True, help="environment steps (decisions) in total")
-    p.add_argument("--out", type=Path, required=True, help="output directory")
-    p.add_argument("--n-envs", type=int, default=None, help="environment copies (default 4; soccer_v0: 1 match)")
-    p.add_argument("--checkpoint-every", type=int, default=10_000, help="steps between checkpoints (default 10000)")
+    p.add_argument(
+        "--timesteps", type=_integer(1, _MAX_STEPS), required=True, help="environment steps (decisions) in total"
+    )
+    p.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        help="output directory (refused if it holds a model or checkpoints: see --resume and --overwrite)",
+    )
+    p.add_argument(
+        "--n-envs",
+        type=_integer(1, _RL_MAX_ENVS),
+        default=None,
+        help=f"environment copies, 1..{_RL_MAX_ENVS} (default 4; soccer_v0: 1 match)",
+    )
+    p.add_argument(
+        "--checkpoint-every",
+        type=_integer(1, _MAX_STEPS),
+        default=10_000,
+        help="steps between checkpoints (default 10000)",
+    )
     p.add_argument("--hyperparams", default=None, metavar="JSON", help="algorithm keyword arguments as JSON")
     p.add_argument("--resume", action="store_true", help="continue from the latest checkpoint in --out")
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="delete the model, checkpoints, logs and config.json of an earlier run in --out first",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -365,19 +656,27 @@ def _evaluate_parser(sub: Any) -> None:
     )
     p.add_argument("--model", required=True, help="DIR/model.zip of 'teamsim train', or 'random'")
     _rl_env_args(p)
-    p.add_argument("--episodes", type=int, default=50, help="episodes (matches for soccer_v0; default 50)")
-    p.add_argument("--out", type=Path, default=None, help="JSONL file of the episodes (resumable)")
+    p.add_argument(
+        "--episodes",
+        type=_integer(1, _MAX_STEPS),
+        default=50,
+        help="episodes (matches for soccer_v0; default 50)",
+    )
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="JSONL file of the episodes (resumable; refused if it holds episodes of another model or environment)",
+    )
 
 
 def _json_object(text: str | None, option: str) -> dict[str, Any]:
+    """The JSON object given to ``option`` (``{}`` if it was not given)."""
     if text is None:
         return {}
-    try:
-        value = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{option} is not valid JSON: {exc}") from exc
+    value = parse_json(text, option)
     if not isinstance(value, dict):
-        raise ValueError(f"{option} must be a JSON object, got {text!r}")
+        raise ValueError(f"{option} must be a JSON object, got {_json_type(value)}")
     return value
 
 
@@ -410,6 +709,7 @@ def run_train(args: argparse.Namespace, out: TextIO) -> int:
             progress_bar=not args.no_progress,
             hyperparams=_json_object(args.hyperparams, "--hyperparams"),
             resume=args.resume,
+            overwrite=args.overwrite,
         )
     except ImportError as exc:
         raise ValueError(f"training needs the train extra (pip install -e '.[train]'): {exc}") from exc
@@ -440,9 +740,17 @@ def run_evaluate(args: argparse.Namespace, out: TextIO) -> int:
 
 
 def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
-    """Entry point of the ``teamsim`` console script; returns the exit code."""
+    """Entry point of the ``teamsim`` console script; returns the exit code.
+
+    0: done; 2: bad input (usage, options, config, an output directory in use, a request
+    larger than memory), reported in one line on stderr; 130: ``train`` interrupted. Other
+    exceptions are bugs and propagate with their traceback (Ctrl-C as ``KeyboardInterrupt``).
+    """
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help (0) or a usage error, already printed in one line (2)
+        return exc.code if isinstance(exc.code, int) else 2
     stream = out if out is not None else sys.stdout
     try:
         if args.command == "match":
@@ -456,7 +764,18 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         if args.command == "evaluate":
             return run_evaluate(args, stream)
     except (ValueError, TypeError, OSError) as exc:
-        print(f"teamsim {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        return _report(args.command, str(exc) or type(exc).__name__)
+    except MemoryError as exc:  # an allocation sized by the input (the sizes are bounded where they are known)
+        detail = f" ({exc})" if str(exc) else ""
+        return _report(args.command, f"out of memory{detail}: a size in the options or the config is too large")
     parser.error(f"unknown command {args.command!r}")
+    return 2
+
+
+def _report(command: str, message: str) -> int:
+    """Print ``message`` as one error line of ``command`` on stderr; returns the exit code 2."""
+    line = " ".join(message.split())
+    if len(line) > MAX_MESSAGE_CHARS:
+        line = line[:MAX_MESSAGE_CHARS] + f"... ({len(line) - MAX_MESSAGE_CHARS} more characters)"
+    print(f"teamsim {command}: error: {line}", file=sys.stderr)
     return 2

@@ -263,8 +263,7 @@ def test_cli_video_particles_needs_video_and_localization(
 
 
 def test_cli_unknown_variant(capsys: pytest.CaptureFixture[str]) -> None:
-    with pytest.raises(SystemExit):
-        main(["match", "--localization", "kalman"])
+    assert main(["match", "--localization", "kalman"]) == 2
     assert "invalid choice: 'kalman'" in capsys.readouterr().err
 
 
