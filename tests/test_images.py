@@ -130,11 +130,13 @@ def test_white_pixels_below_the_horizon_are_paint():
 
 @pytest.mark.parametrize("pitch", [-0.15, 0.0, 0.12])
 def test_the_horizon_is_where_the_model_says(pitch):
-    # a huge field: the carpet's far edge lies within a pixel of the horizon
+    # the largest field the parameters allow (100 m x 100 m, 10 m border): seen from the centre,
+    # the carpet's far edge lies a few pixels below the horizon, and the green must start on
+    # the row where the camera model puts that edge, with nothing green above the horizon
     dims = FieldDimensions(
-        length=900.0, width=600.0, line_width=0.05, goal_area_length=0.6, goal_area_width=2.2,
+        length=100.0, width=100.0, line_width=0.05, goal_area_length=0.6, goal_area_width=2.2,
         penalty_area_length=1.65, penalty_area_width=4.0, penalty_mark_distance=1.3, penalty_mark_size=0.1,
-        centre_mark=True, centre_circle_diameter=1.5, border_strip=0.7, goal_inner_width=1.5,
+        centre_mark=True, centre_circle_diameter=1.5, border_strip=10.0, goal_inner_width=1.5,
         goal_post_diameter=0.1, goal_height=0.8, goal_depth=0.5, ball_diameter=0.1,
     )  # fmt: skip
     field = Field(dims)
@@ -145,9 +147,13 @@ def test_the_horizon_is_where_the_model_says(pitch):
     cam = ren.camera_matrix(scene, 0)
     v0, v1 = cam.horizon()
     assert v0 == pytest.approx(v1)  # no roll: a horizontal horizon
+    # the robot stands at x = 0 facing theta 0.3: the far edge straight ahead, in the robot frame
+    reach = (field.half_length + dims.border_strip) / math.cos(0.3)
+    (edge,), _ = cam.project([[reach, 0.0, 0.0]])
+    assert 0.0 < edge[1] - v0 < 10.0  # just below the horizon
     green = np.abs(img - np.array(make_colour_scheme("classic").field_green)).max(axis=-1) <= 2
     rows = np.nonzero(green.any(axis=1))[0]
-    assert abs(rows.min() - v0) <= 1.0
+    assert abs(rows.min() - edge[1]) <= 1.5
     assert not green[: max(0, int(v0) - 1)].any()
 
 
