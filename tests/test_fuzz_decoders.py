@@ -1,7 +1,8 @@
 """Fuzzing the two decoders a robot feeds with bytes from the network.
 
 ``GameControlData.unpack`` (GameController packets) and the team-message path
-(``messages.unpack`` and ``TeamState.update``) get 10,000 generated inputs each: random bytes,
+(``messages.unpack`` and ``TeamState.update``) get 10,000 generated inputs each (``TeamState``:
+2,500 examples of 4 to 12 messages in 2 or 3 frames): random bytes,
 and valid packets mutated by bit flips, byte overwrites with extreme values, float fields set
 to extreme float32 values (NaN, infinities, the largest float32, values just beyond each
 documented bound), truncation and extension. Team messages mostly get their CRC recomputed
@@ -280,8 +281,12 @@ def test_message_unpack_accepts_exactly_the_documented_content(raw: bytes) -> No
     assert m.pack() == raw
 
 
-@FUZZ
-@given(batches=st.lists(st.lists(st.tuples(_message_input, st.integers(1, 7)), max_size=4), min_size=1, max_size=3))
+@settings(FUZZ, max_examples=2_500)  # at least 2 x 2 messages an example: at least 10,000 messages
+@given(
+    batches=st.lists(
+        st.lists(st.tuples(_message_input, st.integers(1, 7)), min_size=2, max_size=4), min_size=2, max_size=3
+    )
+)
 def test_team_state_keeps_only_valid_on_carpet_messages_and_counts_every_other(
     batches: list[list[tuple[bytes, int]]],
 ) -> None:
