@@ -114,6 +114,10 @@ def _checked(hint: Any, value: Any, path: str) -> Any:
     wanted = _describe(hint)
     if wanted is None:
         return value
+    if typing.get_origin(hint) in (typing.Union, types.UnionType) and isinstance(value, list | tuple):
+        arms = [a for a in typing.get_args(hint) if typing.get_origin(a) is tuple]
+        if arms:  # e.g. ``tuple[float, float, float] | None`` given a list
+            return _checked(arms[0], value, path)
     if isinstance(hint, type) or typing.get_origin(hint) in (typing.Literal, typing.Union, types.UnionType):
         if _fits(hint, value):
             return value

@@ -47,7 +47,7 @@ from typing import Any, ClassVar
 
 from cognition.field import FieldDimensions
 from cognition.gamestate import MAX_NUM_PLAYERS, Penalty
-from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
+from teamsim.params import Range, Ranges, check_ranges, from_mapping, non_negative, positive
 
 
 @dataclass(frozen=True)
@@ -190,3 +190,25 @@ class ForceFall:
 
 
 ScriptedEvent = Kidnap | PlaceBall | ForcePenalty | ForceFall
+
+EVENT_KINDS: dict[str, type[Kidnap] | type[PlaceBall] | type[ForcePenalty] | type[ForceFall]] = {
+    "kidnap": Kidnap,
+    "place_ball": PlaceBall,
+    "penalty": ForcePenalty,
+    "fall": ForceFall,
+}
+"""The ``kind`` names of scripted events in a plain mapping (:func:`event_from_mapping`)."""
+
+
+def event_from_mapping(data: Any, where: str = "event") -> ScriptedEvent:
+    """A scripted event from a plain mapping such as ``{"kind": "kidnap", "time": 8.0, "team": 0,
+    "number": 1, "pose": [1.0, 0.5, 0.0]}`` (a JSON config's ``events`` entry); the other keys
+    are the event's fields (module table). Errors name ``where`` and the key."""
+    if not isinstance(data, dict):
+        raise TypeError(f"{where}: expected a mapping with a 'kind', got {type(data).__name__}")
+    rest = dict(data)
+    kind = rest.pop("kind", None)
+    if kind not in EVENT_KINDS:
+        raise ValueError(f"{where}.kind: unknown event kind {kind!r}; valid: {sorted(EVENT_KINDS)}")
+    cls = EVENT_KINDS[kind]
+    return from_mapping(cls, rest, where)  # type: ignore[return-value]

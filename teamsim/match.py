@@ -87,6 +87,7 @@ from teamsim.events import (
     Kidnap,
     PlaceBall,
     ScriptedEvent,
+    event_from_mapping,
 )
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer
@@ -184,10 +185,20 @@ class MatchConfig:
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any]) -> MatchConfig:
-        """Build a config from a plain mapping (e.g. JSON); unknown keys are an error."""
+        """Build a config from a plain mapping (e.g. JSON); unknown keys are an error.
+
+        ``events`` is a list of mappings, each with a ``kind`` (``kidnap``, ``place_ball``,
+        ``penalty``, ``fall``) and the event's fields (:func:`teamsim.events.event_from_mapping`).
+        """
         data = dict(data)
         if "events" in data:
-            raise ValueError("MatchConfig.from_mapping: give scripted events in code, not in the mapping")
+            events = data["events"]
+            if not isinstance(events, list | tuple):
+                raise TypeError(f"MatchConfig.events: expected a list of events, got {type(events).__name__}")
+            data["events"] = tuple(
+                e if isinstance(e, ScriptedEvent) else event_from_mapping(e, f"MatchConfig.events[{i}]")
+                for i, e in enumerate(events)
+            )
         return from_mapping(cls, data)
 
 

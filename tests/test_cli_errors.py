@@ -79,7 +79,18 @@ BAD_INPUTS: list[tuple[list[str], str | bytes | None, list[str]]] = [
     (["match", "--config", "CFG"], '{"physics": {"robot": {"r": 1}}}', ["c.json", "MatchConfig.physics.robot key"]),
     (["match", "--config", "CFG"], '{"referee": {"fouls": {"x": 1}}}', ["c.json", "MatchConfig.referee.fouls key"]),
     (["match", "--config", "CFG"], '{"percepts": "noisy"}', ["c.json", "unknown MatchConfig.percepts preset"]),
-    (["match", "--config", "CFG"], '{"events": []}', ["c.json", "events"]),
+    (["match", "--config", "CFG"], '{"events": {}}', ["c.json", "MatchConfig.events: expected a list"]),
+    (["match", "--config", "CFG"], '{"events": [{"kind": "teleport"}]}', ["c.json", "events[0].kind", "'teleport'"]),
+    (
+        ["match", "--config", "CFG"],
+        '{"events": [{"kind": "kidnap", "time": 1, "team": 0, "number": 9}]}',
+        ["c.json", "MatchConfig.events[0]", "player 9"],
+    ),
+    (
+        ["match", "--config", "CFG"],
+        '{"events": [{"kind": "penalty", "time": 1, "team": 0, "number": 1, "code": 13}]}',
+        ["c.json", "MatchConfig.events[0].code", "13"],
+    ),
     # --config: sections and values of the wrong type
     (["match", "--config", "CFG"], '{"physics": 5}', ["c.json: MatchConfig.physics: expected a mapping"]),
     (["match", "--config", "CFG"], '{"referee": []}', ["c.json: MatchConfig.referee: expected a mapping"]),

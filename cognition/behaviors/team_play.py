@@ -39,6 +39,7 @@ from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
 from cognition.representations import BrainOutput, MotionRequest, RobotPose, SensorFrame
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, Teammate, TruthBeliefs
+from cognition.worldmodel.kalman_ball import KalmanBallParams
 from cognition.worldmodel.messages import Role
 
 STRIKER_BONUS = 0.3
@@ -93,6 +94,7 @@ class ScriptedBrain:
         skill_params: SkillParams | None = None,
         head_params: HeadParams | None = None,
         message_interval: float = 1.0,
+        ball_params: KalmanBallParams | None = None,
     ):
         if beliefs not in ("cognition", "truth"):
             raise ValueError(f"unknown beliefs {beliefs!r}; valid: ['cognition', 'truth']")
@@ -103,6 +105,7 @@ class ScriptedBrain:
         self.skill_params = skill_params
         self.head_params = head_params
         self.message_interval = message_interval
+        self.ball_params = ball_params
         self.uses_oracle = beliefs == "truth" or variant == "oracle"
         self.context: BrainContext | None = None
         self.provider: CognitionBeliefs | TruthBeliefs | None = None
@@ -119,7 +122,9 @@ class ScriptedBrain:
         if self.beliefs_mode == "truth":
             self.provider = TruthBeliefs(context)
         else:
-            self.provider = CognitionBeliefs(context, self.variant, self.localization_params, self.obstacle_model)
+            self.provider = CognitionBeliefs(
+                context, self.variant, self.localization_params, self.obstacle_model, self.ball_params
+            )
         self.skills = Skills(context, self.skill_params)
         self.head = HeadControl(context, self.head_params)
         self.beliefs = None

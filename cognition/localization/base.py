@@ -200,7 +200,7 @@ class DeadReckoning(Localizer):
         self._jump(poses)
 
     def on_penalty(self, penalized: bool, state: int) -> None:
-        if not penalized:
+        if not penalized and self.params.penalty_prior:
             self._jump(self.return_poses())
 
     def repair(self, frame: SensorFrame) -> None:

@@ -67,6 +67,14 @@ cluster_radius             0.40 m          (0, 100]       CMU III.E: particles w
 jump_weight                0.2             [0, 1]         CMU III.E: below this cluster weight the pose jumps
 lost_spread                0.5 m           (0, 100]       CMU III.E: weighted position sd above which the robot is lost
 return_rule                spl2025                        penalty return positions (``spl2025`` or ``spl2010``)
+penalty_prior              true            true/false     CMU III.A.3: a robot returning from a penalty puts its
+                                                          particles at the return positions (the game
+                                                          controller's prior); false keeps its belief from before
+                                                          the penalty and relocalizes from percepts alone
+field_lines                true            true/false     use the painted-line features (crossings, lines, centre
+                                                          circle, penalty marks); false leaves goal posts and
+                                                          poles only, as in NimbRo's localization without lines
+                                                          (NimbRo Sec. 5, Table 2)
 placement_sigma_xy         0.15 m          [0, 10]        spread of particles at known placement positions
 placement_sigma_theta      10 deg          [0, pi]
 relocalize_seconds         3.0 s           [0, 600]       safety net of every particle variant (not in the papers,
@@ -171,6 +179,8 @@ class LocalizationParams:
     jump_weight: float = 0.2
     lost_spread: float = 0.5
     return_rule: str = "spl2025"
+    penalty_prior: bool = True
+    field_lines: bool = True
     placement_sigma_xy: float = 0.15
     placement_sigma_theta: float = 10.0 * _DEG
     relocalize_seconds: float = 3.0

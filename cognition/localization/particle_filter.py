@@ -230,8 +230,9 @@ class ParticleFilter(Localizer):
         self._forget()
 
     def on_penalty(self, penalized: bool, state: int) -> None:
-        self.set_particles_around(self.return_poses())
-        self._forget()
+        if self.params.penalty_prior:
+            self.set_particles_around(self.return_poses())
+            self._forget()
 
     def repair(self, frame: SensorFrame) -> None:
         self.n = self.params.particles

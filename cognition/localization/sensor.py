@@ -108,7 +108,7 @@ def sensor_table(p: LocalizationParams) -> NDArray[np.float64]:
             p.post_sigma_min, p.post_sigma_rate, p.post_sigma_bearing_min, p.post_sigma_bearing_rate,
             p.corner_sigma_min, p.corner_sigma_rate, p.corner_sigma_bearing, p.corner_sigma_orientation,
             p.line_sigma_min, p.line_sigma_rate, p.line_sigma_bearing, p.line_sigma_orientation,
-            p.circle_sigma_min, p.circle_sigma_rate, p.circle_sigma_bearing, 0.0,
+            p.circle_sigma_min, p.circle_sigma_rate, p.circle_sigma_bearing, 0.0 if p.field_lines else 1.0,
             p.mark_sigma_min, p.mark_sigma_rate, p.mark_sigma_bearing, 0.0,
         ]
     )  # fmt: skip
@@ -118,7 +118,8 @@ def pack_observations(percepts: Percepts | None, table: NDArray[np.float64]) -> 
     """Observation rows (K x :data:`N_O`) for the filter from one image's percepts.
 
     ``table`` is :func:`sensor_table` of the parameters. Balls and robots are not used;
-    lines shorter than the minimum length are dropped.
+    lines shorter than the minimum length are dropped, and so are all painted-line features
+    (crossings, lines, circle, marks) when ``field_lines`` is off.
     """
     if percepts is None:
         return _NONE
@@ -150,11 +151,14 @@ def pack_nb(rows, offsets, tab, out):  # pragma: no cover - compiled
     """Fill ``out`` with observation rows from percept rows (kind k in rows
     offsets[k] .. offsets[k + 1]); returns how many."""
     adaptive = tab[0] > 0.5
+    no_lines = tab[19] > 0.5
     k = 0
     kind = 0
     for r in range(offsets[0], offsets[-1]):
         while r >= offsets[kind + 1]:
             kind += 1
+        if no_lines and kind >= 1 and kind <= 4:  # crossings, lines, circle, marks: painted lines
+            continue
         row = rows[r]
         for c in range(out.shape[1]):
             out[k, c] = 0.0

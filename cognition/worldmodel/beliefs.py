@@ -29,6 +29,7 @@ frame** (m, +x forward, +y left).
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -45,6 +46,7 @@ from cognition.representations import BallModel, RobotPose, SensorFrame
 from cognition.worldmodel.ball import KalmanBallModel
 from cognition.worldmodel.goal import GoalEstimate, GoalModel
 from cognition.worldmodel.hypotheses import BallHypotheses
+from cognition.worldmodel.kalman_ball import KalmanBallParams
 from cognition.worldmodel.messages import MAX_POSE_STD, Role, TeamMessage
 from cognition.worldmodel.obstacles import ObstacleGrid, ObstacleModel, ObstacleSectors
 from cognition.worldmodel.team import TeamBallEstimate, TeamState, carpet_limits, rotate_covariance, team_ball
@@ -163,7 +165,11 @@ class CognitionBeliefs:
 
     ``variant`` names the localization (:data:`cognition.localization.VARIANTS`); the
     ``oracle`` variant needs the true pose passed to :meth:`update`. ``obstacle_model`` is
-    ``sectors`` or ``grid``.
+    ``sectors`` or ``grid``; ``ball_params`` tunes the Kalman ball (its observation noise model,
+    Darmstadt V).
+
+    :attr:`localization_cpu_seconds` sums the CPU time (s, this thread) of the localizer's
+    updates, so that a study can report the cost of a variant per update.
     """
 
     def __init__(
@@ -172,6 +178,7 @@ class CognitionBeliefs:
         variant: str = "maturing",
         params: LocalizationParams | None = None,
         obstacle_model: str = "sectors",
+        ball_params: KalmanBallParams | None = None,
     ):
         from cognition.worldmodel import OBSTACLE_MODELS, make_obstacle_model
 
@@ -190,7 +197,9 @@ class CognitionBeliefs:
             player_number=context.player_number,
             players_per_team=context.players_per_team,
         )
-        self.ball_model = KalmanBallModel(0.5 * context.field.dims.ball_diameter, limits=carpet_limits(context.field))
+        self.ball_model = KalmanBallModel(
+            0.5 * context.field.dims.ball_diameter, ball_params, limits=carpet_limits(context.field)
+        )
         self.hypotheses = BallHypotheses()
         self.team = TeamState(context.player_number, context.field)
         self.obstacles: ObstacleGrid | ObstacleSectors = make_obstacle_model(obstacle_model)
@@ -202,6 +211,8 @@ class CognitionBeliefs:
         """The obstacle model's latest output (robot frame)."""
         self.inputs = InputCheck("cognition")
         """Counts the sensor input replaced before any model saw it (:mod:`cognition.inputs`)."""
+        self.localization_cpu_seconds = 0.0
+        """CPU time (s, this thread) spent in the localizer's updates so far."""
 
     def rejected_inputs(self) -> dict[str, int]:
         """Inputs dropped so far, by kind: odometry (:mod:`cognition.inputs`), the localizer's
@@ -215,7 +226,9 @@ class CognitionBeliefs:
     def update(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> Beliefs:
         """Run localization and the world model on one frame (``true_pose``: only for ``oracle``)."""
         frame = self.inputs.frame(frame)
+        started = time.thread_time()
         pose = self.localizer.update(frame, true_pose if self.variant == "oracle" else None)
+        self.localization_cpu_seconds += time.thread_time() - started
         mates = self.team.update(frame)
         ball = self.ball_model.update(frame, pose, mates)
         belief = self.hypotheses.update(frame, pose, mates)
