@@ -13,6 +13,9 @@ train          train a policy on teamsim/Striker-v0, teamsim/Keeper-v0 or soccer
                with Stable-Baselines3 (:mod:`envs.training`; needs the train extra)
 evaluate       play episodes with a trained model or random actions; report goals,
                outcomes and returns (:mod:`envs.evaluation`)
+scenario       list or run scenarios: kidnapping, penalties, ... (registered by
+               :mod:`scenarios.cli` through the ``teamsim.commands`` entry points)
+compare        compare localization variants over paired seeds (the same way)
 =============  ==================================================================
 
 ``teamsim match --out DIR`` writes ``config.json`` first, appends every event to
@@ -46,6 +49,7 @@ import math
 import re
 import sys
 from collections.abc import Callable, Mapping, Sequence
+from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
@@ -70,6 +74,10 @@ MAX_SEED = 2**63 - 1
 """Largest ``--seed`` of a match (a numpy seed); training uses :data:`envs.training.MAX_SEED`."""
 MATCH_RESULTS = ("config.json", "events.jsonl", "summary.json")
 """The files ``teamsim match --out DIR`` writes into DIR (and ``--overwrite`` deletes)."""
+COMMAND_GROUP = "teamsim.commands"
+"""Entry-point group through which packages above ``teamsim`` add subcommands: each entry is a
+function ``register(subparsers)`` that adds its parsers and sets ``handler(args, out) -> int``
+as their default (``scenarios.cli`` adds ``scenario`` and ``compare`` this way)."""
 _SNAPSHOT = re.compile(r"^t\d+\.\d\d_team\d+_player\d+(_annotated)?\.png$")
 
 
@@ -277,6 +285,8 @@ def build_parser() -> argparse.ArgumentParser:
     _gallery_parser(sub)
     _train_parser(sub)
     _evaluate_parser(sub)
+    for entry in sorted(entry_points(group=COMMAND_GROUP), key=lambda e: e.name):
+        entry.load()(sub)  # a package above teamsim adds its commands (each sets ``handler``)
     return parser
 
 
@@ -763,6 +773,9 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
             return run_train(args, stream)
         if args.command == "evaluate":
             return run_evaluate(args, stream)
+        handler = getattr(args, "handler", None)
+        if handler is not None:
+            return int(handler(args, stream))
     except (ValueError, TypeError, OSError) as exc:
         return _report(args.command, str(exc) or type(exc).__name__)
     except MemoryError as exc:  # an allocation sized by the input (the sizes are bounded where they are known)
