@@ -135,8 +135,7 @@ def run(scenario: Scenario, variant: str, seed: int, keep_trace: bool = True) ->
         events = event_rows(trace)
         data = trace.to_parquet() if keep_trace else None
     except Exception as exc:  # any failure of the run is its result; the sweep goes on
-        message = " ".join(f"{type(exc).__name__}: {exc}".split())[:500]
-        row = failed_row(scenario.name, variant, seed, message)
+        row = failed_row(scenario.name, variant, seed, f"{type(exc).__name__}: {exc}")
         events, data = [], None
     row["wall_s"] = time.perf_counter() - start
     return RunOutput(row, events, data)
@@ -147,6 +146,7 @@ def failed_row(scenario: str, variant: str, seed: int, error: str) -> dict[str, 
     from scenarios.store import RUN_COLUMNS
 
     row: dict[str, Any] = {c: math.nan for c in RUN_COLUMNS}
+    error = " ".join(error.split())[:500]  # one line in the CSV table
     row.update(scenario=scenario, variant=variant, seed=seed, status="failed", error=error, frames=0,
                mirror_flips=0, ball_frames=0, goals_for=0, goals_against=0)  # fmt: skip
     return row

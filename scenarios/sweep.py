@@ -184,9 +184,7 @@ def _ray(tasks: list[Task], workers: int, address: str | None) -> Iterator[tuple
                 try:
                     out = ray.get(ref)
                 except Exception as exc:  # the worker died; the run is failed, the sweep goes on
-                    out = RunOutput(
-                        failed_row(*task.key, f"Ray task failed: {type(exc).__name__}: {exc}"[:500]), [], None
-                    )
+                    out = RunOutput(failed_row(*task.key, f"Ray task failed: {type(exc).__name__}: {exc}"), [], None)
                 yield task, out
     finally:
         if started:
