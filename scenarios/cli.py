@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 from typing import Any, TextIO
 
-from scenarios.spec import ScenarioError, builtin_names, describe, load
+from scenarios.spec import builtin_names, describe, load
 
 EXTRA = "pip install -e '.[studies]'"
 MAX_WORKERS = 512

@@ -18,7 +18,7 @@ HZ = 30.0
 def _trace(errors: list[tuple[float, float, float]], duration: float, log=(), timeline=(), mirror_from=None) -> Trace:
     """A one-robot trace at 30 Hz: true pose fixed at (1, 0.5, 0.2); ``errors`` are (from time s,
     position error m along x, heading error rad) pieces; ``mirror_from``: estimate at the mirrored pose."""
-    n = int(round(duration * HZ)) + 1
+    n = round(duration * HZ) + 1
     t = np.arange(n) / HZ
     table = np.zeros((n, len(TRACE_COLUMNS)))
     col = {c: i for i, c in enumerate(TRACE_COLUMNS)}
