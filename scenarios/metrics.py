@@ -95,8 +95,9 @@ def run_row(tr: Trace) -> dict[str, Any]:
     d, a, _, _ = tr.errors()
     loc = {k: nan for k in ("pos_rmse_m", "pos_p90_m", "heading_rmse_deg", "heading_p90_deg", "share_over_0_5m",
                             "share_over_30deg", "mirror_share", "lost_share")}  # fmt: skip
-    flips = 0
+    flips = nan
     if "localization" in wanted and on.any():
+        flips = 0
         dd, aa = d[on], np.degrees(a[on])
         mirrored = _mirrored(tr)
         rec = m["recovery"]
@@ -112,7 +113,7 @@ def run_row(tr: Trace) -> dict[str, Any]:
             flips += int(np.count_nonzero(np.diff(flags) == 1)) + int(flags[:1].sum())
     row.update(loc, mirror_flips=flips)
     row["ball_rmse_m"], row["ball_frames"] = _ball_rmse(tr) if "ball" in wanted else (nan, 0)
-    row["goals_for"], row["goals_against"] = _goals(tr) if "goals" in wanted else (0, 0)
+    row["goals_for"], row["goals_against"] = _goals(tr) if "goals" in wanted else (nan, nan)
     cpu = tr.column("loc_cpu_us")
     row["loc_cpu_us"] = float(np.nanmean(cpu)) if cpu.size and np.isfinite(cpu).any() else nan
     row["wall_s"] = nan

@@ -103,11 +103,13 @@ def simulate(scenario: Scenario, variant: str | Variant, seed: int) -> tuple[Tra
             tx, ty, tth = m.referee.team_pose(robot)
             p = beliefs.pose
             c = p.covariance
+            mirrored = math.hypot(p.x + tx, p.y + ty) < math.hypot(p.x - tx, p.y - ty)
             ball = beliefs.ball
             rows.append((
                 m.time, robot.number, tx, ty, tth, p.x, p.y, p.theta, c[0, 0], c[0, 1], c[1, 1], c[2, 2],
                 float(p.lost), float(robot.penalized), float(robot.picked_up), sign * bx, sign * by,
                 ball.field_x, ball.field_y, float(_LEVEL[ball.level]), 1e6 * step_cpu, float(m.referee.state),
+                float(mirrored),
             ))  # fmt: skip
     table = np.array(rows, dtype=np.float64).reshape(-1, len(TRACE_COLUMNS))
     meta = {
@@ -147,6 +149,5 @@ def failed_row(scenario: str, variant: str, seed: int, error: str) -> dict[str, 
 
     row: dict[str, Any] = {c: math.nan for c in RUN_COLUMNS}
     error = " ".join(error.split())[:500]  # one line in the CSV table
-    row.update(scenario=scenario, variant=variant, seed=seed, status="failed", error=error, frames=0,
-               mirror_flips=0, ball_frames=0, goals_for=0, goals_against=0)  # fmt: skip
+    row.update(scenario=scenario, variant=variant, seed=seed, status="failed", error=error, frames=0, ball_frames=0)
     return row

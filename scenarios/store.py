@@ -83,8 +83,9 @@ EVENT_COLUMNS = (
 TIMING_COLUMNS = ("loc_cpu_us", "wall_s")
 """Columns that measure time on the machine, not in the simulation."""
 
-_INT_COLUMNS = {"seed", "frames", "mirror_flips", "ball_frames", "goals_for", "goals_against", "event", "team",
-                "number", "relocalized", "relocalized_sym", "goals_conceded_short"}  # fmt: skip
+_INT_COLUMNS = {"seed", "frames", "ball_frames", "event", "team", "number", "relocalized", "relocalized_sym",
+                "goals_conceded_short"}  # fmt: skip
+"""Integer columns; the others are numbers that are NaN where a metric was not asked for or does not apply."""
 _TEXT_COLUMNS = {"scenario", "variant", "status", "error", "kind", "detail"}
 
 

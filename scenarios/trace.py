@@ -39,6 +39,7 @@ TRACE_COLUMNS = (
     "ball_level",  # 0 invalid, 1 suspicious, 2 valid
     "loc_cpu_us",  # CPU time of this frame's localization update (us; timing, machine-dependent)
     "game_state",  # GameController state (0 INITIAL .. 3 PLAYING, 4 FINISHED)
+    "mirrored",  # 1 when the estimate is nearer the mirrored true pose (-x, -y, theta + pi) than the true one
 )  # fmt: skip
 _META_KEY = b"teamsim"
 

@@ -9,12 +9,11 @@ match          run a full headless match and print its summary; optionally write
 camera         run a match to given times and write robots' camera images as PNG,
                raw and with their ground-truth annotations
 gallery        render the README's gallery of camera images (docs/gallery)
-train          train a policy on teamsim/Striker-v0, teamsim/Keeper-v0 or soccer_v0
-               with Stable-Baselines3 (:mod:`envs.training`; needs the train extra)
-evaluate       play episodes with a trained model or random actions; report goals,
-               outcomes and returns (:mod:`envs.evaluation`)
+train          train a policy with Stable-Baselines3 (registered by :mod:`envs.cli`
+               through the ``teamsim.commands`` entry points: teamsim never imports envs)
+evaluate       play episodes with a trained model or random actions (the same way)
 scenario       list or run scenarios: kidnapping, penalties, ... (registered by
-               :mod:`scenarios.cli` through the ``teamsim.commands`` entry points)
+               :mod:`scenarios.cli` the same way)
 compare        compare localization variants over paired seeds (the same way)
 =============  ==================================================================
 
@@ -283,8 +282,6 @@ def build_parser() -> argparse.ArgumentParser:
     _match_parser(sub)
     _camera_parser(sub)
     _gallery_parser(sub)
-    _train_parser(sub)
-    _evaluate_parser(sub)
     for entry in sorted(entry_points(group=COMMAND_GROUP), key=lambda e: e.name):
         entry.load()(sub)  # a package above teamsim adds its commands (each sets ``handler``)
     return parser
@@ -590,165 +587,6 @@ def run_gallery(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
-# -- train / evaluate: reinforcement learning with Stable-Baselines3 ----------------------------
-# The CLI is the application shell: these handlers import envs lazily; teamsim's modules never import envs.
-
-_RL_ENV_HELP = "teamsim/Striker-v0, teamsim/Keeper-v0 or soccer_v0"
-_RL_MAX_SEED = 2**31 - 1  # the same bound as envs.training.MAX_SEED (teamsim does not import envs)
-_RL_MAX_ENVS = 256  # the same bound as envs.training.MAX_ENVS
-_MAX_STEPS = 10**12
-
-
-def _rl_env_args(p: Any) -> None:
-    """Options of the environment shared by ``train`` and ``evaluate``."""
-    p.add_argument("--env", required=True, help=f"environment: {_RL_ENV_HELP}")
-    p.add_argument(
-        "--seed", type=_integer(0, _RL_MAX_SEED), default=0, help=f"random seed, 0..{_RL_MAX_SEED} (default 0)"
-    )
-    p.add_argument("--observation", choices=["truth", "percepts"], default=None, help="observation mode")
-    p.add_argument("--action-type", choices=["continuous", "discrete"], default=None, help="action type")
-    p.add_argument(
-        "--env-kwargs",
-        default=None,
-        metavar="JSON",
-        help='more environment arguments as a JSON object, e.g. \'{"reward_weights": {"goal": 20}}\'',
-    )
-
-
-def _train_parser(sub: Any) -> None:
-    p = sub.add_parser(
-        "train",
-        help="train a policy with Stable-Baselines3 (needs the train extra)",
-        description="Train a policy on a teamsim environment. Writes OUT/config.json first, checkpoints to "
-        "OUT/checkpoints, TensorBoard logs to OUT/tb and the model to OUT/model.zip. An interrupted run keeps its "
-        "checkpoints; --resume continues from the latest.",
-    )
-    _rl_env_args(p)
-    p.add_argument("--algo", default="ppo", help="ppo (default), a2c or sac (continuous actions only)")
-    p.add_argument(
-        "--timesteps", type=_integer(1, _MAX_STEPS), required=True, help="environment steps (decisions) in total"
-    )
-    p.add_argument(
-        "--out",
-        type=Path,
-        required=True,
-        help="output directory (refused if it holds a model or checkpoints: see --resume and --overwrite)",
-    )
-    p.add_argument(
-        "--n-envs",
-        type=_integer(1, _RL_MAX_ENVS),
-        default=None,
-        help=f"environment copies, 1..{_RL_MAX_ENVS} (default 4; soccer_v0: 1 match)",
-    )
-    p.add_argument(
-        "--checkpoint-every",
-        type=_integer(1, _MAX_STEPS),
-        default=10_000,
-        help="steps between checkpoints (default 10000)",
-    )
-    p.add_argument("--hyperparams", default=None, metavar="JSON", help="algorithm keyword arguments as JSON")
-    p.add_argument("--resume", action="store_true", help="continue from the latest checkpoint in --out")
-    p.add_argument(
-        "--overwrite",
-        action="store_true",
-        help="delete the model, checkpoints, logs and config.json of an earlier run in --out first",
-    )
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-
-
-def _evaluate_parser(sub: Any) -> None:
-    p = sub.add_parser(
-        "evaluate",
-        help="play episodes with a trained model (or random actions) and report goals and outcomes",
-        description="Evaluate a model saved by 'teamsim train' (deterministic actions) or 'random' actions. The "
-        "environment arguments default to those the model was trained with. --out appends one JSON line per "
-        "episode and, run again, skips the episodes the file holds.",
-    )
-    p.add_argument("--model", required=True, help="DIR/model.zip of 'teamsim train', or 'random'")
-    _rl_env_args(p)
-    p.add_argument(
-        "--episodes",
-        type=_integer(1, _MAX_STEPS),
-        default=50,
-        help="episodes (matches for soccer_v0; default 50)",
-    )
-    p.add_argument(
-        "--out",
-        type=Path,
-        default=None,
-        help="JSONL file of the episodes (resumable; refused if it holds episodes of another model or environment)",
-    )
-
-
-def _json_object(text: str | None, option: str) -> dict[str, Any]:
-    """The JSON object given to ``option`` (``{}`` if it was not given)."""
-    if text is None:
-        return {}
-    value = parse_json(text, option)
-    if not isinstance(value, dict):
-        raise ValueError(f"{option} must be a JSON object, got {_json_type(value)}")
-    return value
-
-
-def _rl_env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
-    kwargs = _json_object(args.env_kwargs, "--env-kwargs")
-    if args.observation is not None:
-        kwargs["observation"] = args.observation
-    if args.action_type is not None:
-        kwargs["action_type"] = args.action_type
-    return kwargs
-
-
-def run_train(args: argparse.Namespace, out: TextIO) -> int:
-    """Run ``teamsim train`` with parsed arguments."""
-    import time
-
-    start = time.perf_counter()
-    try:
-        from envs.training import train
-
-        path = train(
-            args.env,
-            algo=args.algo,
-            timesteps=args.timesteps,
-            out_dir=args.out,
-            seed=args.seed,
-            env_kwargs=_rl_env_kwargs(args),
-            n_envs=args.n_envs,
-            checkpoint_every=args.checkpoint_every,
-            progress_bar=not args.no_progress,
-            hyperparams=_json_object(args.hyperparams, "--hyperparams"),
-            resume=args.resume,
-            overwrite=args.overwrite,
-        )
-    except ImportError as exc:
-        raise ValueError(f"training needs the train extra (pip install -e '.[train]'): {exc}") from exc
-    except KeyboardInterrupt:
-        print(f"interrupted: checkpoints kept in {args.out / 'checkpoints'}; continue with --resume", file=out)
-        return 130
-    seconds = time.perf_counter() - start
-    rate = "" if args.resume else f" ({args.timesteps / seconds:.0f} steps/s)"
-    print(f"trained {args.algo} on {args.env} to {args.timesteps} steps in {seconds:.1f} s{rate}", file=out)
-    print(f"model written to {path}", file=out)
-    return 0
-
-
-def run_evaluate(args: argparse.Namespace, out: TextIO) -> int:
-    """Run ``teamsim evaluate`` with parsed arguments."""
-    try:
-        from envs.evaluation import evaluate
-
-        report = evaluate(
-            args.model, args.env, episodes=args.episodes, seed=args.seed, env_kwargs=_rl_env_kwargs(args), out=args.out
-        )
-    except ImportError as exc:
-        raise ValueError(f"evaluation needs the train extra (pip install -e '.[train]'): {exc}") from exc
-    print(report.format(), file=out)
-    if args.out is not None:
-        print(f"episodes written to {args.out}", file=out)
-    return 0
-
-
 def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     """Entry point of the ``teamsim`` console script; returns the exit code.
 
@@ -769,10 +607,6 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
             return run_camera(args, stream)
         if args.command == "gallery":
             return run_gallery(args, stream)
-        if args.command == "train":
-            return run_train(args, stream)
-        if args.command == "evaluate":
-            return run_evaluate(args, stream)
         handler = getattr(args, "handler", None)
         if handler is not None:
             return int(handler(args, stream))

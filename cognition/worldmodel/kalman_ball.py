@@ -79,7 +79,7 @@ class KalmanBallParams:
     """Evaluate eqs. 8-12 at the predicted distance instead of the measured one (once the
     filter runs). With the measured distance, near readings get smaller variances than far
     ones, which biases the fused estimate toward the robot (-0.28 m at 2.7 m in the
-    ``ball-rmse`` static runs); the paper does not say which it used."""
+    ``ball-noise`` scenario); the paper does not say which it used."""
     team_inflation: float = 2.0
     """Factor on a teammate's covariance (pose errors, timing; Darmstadt V.B)."""
 
