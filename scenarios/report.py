@@ -155,7 +155,8 @@ def paired_test(a: Sequence[float] | np.ndarray, b: Sequence[float] | np.ndarray
     if d.size == 0:
         return {"n": 0.0, "median_diff": math.nan, "rank_biserial": math.nan, "p": math.nan}
     nz = d[d != 0]
-    out = {"n": float(d.size), "median_diff": float(np.median(d)) + 0.0, "rank_biserial": 0.0, "p": 1.0}
+    out = {"n": float(d.size), "median_diff": float(np.median(d)) + 0.0, "rank_biserial": 0.0, "p": 1.0,
+           "n_nonzero": float(nz.size)}  # fmt: skip
     if nz.size:
         ranks = stats.rankdata(np.abs(nz))
         out["rank_biserial"] = float((ranks[nz > 0].sum() - ranks[nz < 0].sum()) / ranks.sum())
@@ -223,8 +224,10 @@ def _paired_rows(runs: pd.DataFrame, events: pd.DataFrame, scenario: str) -> lis
             res = paired_test(table[a].to_numpy(float), table[b].to_numpy(float))
             if res["n"]:
                 out.append({"scenario": scenario, "metric": metric, "variant_a": a, "variant_b": b, **res})
-    adjusted = holm([row["p"] for row in out])
-    for row, p in zip(out, adjusted, strict=True):
+    tested = [row for row in out if row["n_nonzero"] > 0]  # identical results everywhere: nothing was tested
+    for row in out:
+        row["p_holm"], row["significant"] = 1.0, False
+    for row, p in zip(tested, holm([row["p"] for row in tested]), strict=True):
         row["p_holm"], row["significant"] = float(p), bool(p < ALPHA)
     return out
 
@@ -400,7 +403,9 @@ def _sections(tables: dict[str, pd.DataFrame], figures: dict[str, list[str]], ti
     for scenario, g in _by_scenario(tables["metrics"]):
         out.append(f"### {scenario}\n\n" + _wide(g, ["metric"]))
     out.append(
-        "## Recovery after events\n\nRecovery times (s from the clock start: the event, or a penalised "
+        "## Recovery after events\n\nNo scripted robot events in these scenarios.\n"
+        if tables["recovery"].empty
+        else "## Recovery after events\n\nRecovery times (s from the clock start: the event, or a penalised "
         "robot's return) are right-censored at the event's horizon. Kaplan-Meier (`scipy.stats.ecdf`); "
         "median = first time the share not yet relocalized is <= 0.5, CI where the pointwise 95 % log-log "
         "band crosses 0.5. `back_in_play_s` = penalty_s + relocalize_s, censored like relocalize_s.\n"
@@ -418,7 +423,8 @@ def _sections(tables: dict[str, pd.DataFrame], figures: dict[str, list[str]], ti
         "recovery time counts as its horizon, which is conservative), two-sided (exact without tied "
         "|differences|, else normal approximation; zero differences dropped); Holm correction across all "
         f"tests of a scenario; **bold** = Holm p < {ALPHA}. Rank-biserial r > 0: A tends to be larger. "
-        "p = 1 with median 0: no difference.\n"
+        "p = 1 with median 0 and r = 0: identical results in every pair, which is no test and stays out of the "
+        "Holm family.\n"
     )
     for scenario, g in _by_scenario(tables["paired"]):
         holm_text = [f"**{_num(p)}**" if sig else _num(p) for p, sig in zip(g.p_holm, g.significant, strict=True)]

@@ -90,7 +90,7 @@ def paired(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_holm_and_paired_test_by_hand() -> None:
     np.testing.assert_allclose(holm([0.01, 0.04, 0.03, math.nan]), [0.03, 0.06, 0.06, math.nan])
     same = paired_test([1.0, 2.0, 3.0], [1.0, 2.0, 3.0])
-    assert same == {"n": 3.0, "median_diff": 0.0, "rank_biserial": 0.0, "p": 1.0}
+    assert same == {"n": 3.0, "median_diff": 0.0, "rank_biserial": 0.0, "p": 1.0, "n_nonzero": 0.0}
     lower = paired_test([1.0, 2.0, 3.0, 4.0, 5.0, math.nan], [2.0, 4.0, 6.0, 8.0, 10.0, 1.0])
     assert lower["n"] == 5 and lower["median_diff"] == -3.0 and lower["rank_biserial"] == -1.0
     assert lower["p"] == pytest.approx(2 / 2**5)  # exact two-sided: only all-negative or all-positive as extreme
@@ -113,6 +113,10 @@ def test_clearly_better_variant_is_holm_significant_and_twin_is_not(paired: Path
     assert reloc.significant and reloc.median_diff == pytest.approx(-3.0)
     # Holm: each p_holm is at least the raw p and the scenario's tests are corrected together
     assert (pt.p_holm >= pt.p - 1e-15).all() and pt.p_holm.max() <= 1.0
+    # pairs with identical results everywhere are no tests: they stay out of the Holm family
+    tested = pt[pt.n_nonzero > 0]
+    assert len(tested) < len(pt) and (pt[pt.n_nonzero == 0].p_holm == 1.0).all()
+    np.testing.assert_allclose(tested.p_holm.to_numpy(), holm(tested.p.to_numpy()))
     metrics = tables["metrics"].set_index(["metric", "variant"])
     assert metrics.loc[("mirror_flips", "amcl")].statistic == "median"
     assert metrics.loc[("pos_rmse_m", "twin")].n == 11
