@@ -1,5 +1,5 @@
 # Convenience targets; the README Quickstart commands work without make.
-.PHONY: install match test lint bench train-install
+.PHONY: install match test lint bench studies train-install
 
 install:
 	pip install -e .
@@ -21,6 +21,16 @@ bench:
 	python -m benchmarks.bench_worldmodel --json out/bench_worldmodel.json
 	python -m benchmarks.bench_envs --json out/bench_envs.json
 	python -m benchmarks.soak --json out/soak.json
+
+# the reports in docs/studies (README tables come from them); resumable: run again after a stop
+studies:
+	pip install -e '.[studies]'
+	teamsim compare --scenario kidnap-standing --seeds 20 --out docs/studies/kidnap-standing
+	teamsim compare --scenario kidnap-with-pickup --seeds 20 --out docs/studies/kidnap-with-pickup
+	teamsim compare --scenario lines-vs-no-lines --seeds 20 --out docs/studies/lines-vs-no-lines
+	teamsim compare --scenario ball-noise ball-noise-rolling --seeds 20 --out docs/studies/ball-noise
+	teamsim compare --scenario penalties-spl2010 penalties-spl2025 --seeds 10 --out docs/studies/penalties
+	teamsim compare --scenario kidnap-during-play --seeds 10 --out docs/studies/kidnap-during-play
 
 # torch first, pinned: an unpinned torch pulls a multi-GB CUDA build
 train-install:
