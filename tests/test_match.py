@@ -69,8 +69,8 @@ def _last_goal_without_kickoff(m: Match) -> bool:
 
 
 def test_same_seed_gives_identical_match() -> None:
-    # two 2-minute halves of the default match: kickoffs, play, half time and side switch
-    cfg = MatchConfig(referee=RefereeParams(half_seconds=120.0))
+    # two 1-minute halves of the default match: kickoffs, play, half time and side switch
+    cfg = MatchConfig(referee=RefereeParams(half_seconds=60.0))
     first, again = Match(cfg), Match(cfg)
     first.run()
     again.run()
@@ -142,9 +142,13 @@ def test_nan_commands_are_rejected() -> None:
 def test_cli_match_writes_results(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "run"
     video = tmp_path / "match.gif"
+    short = tmp_path / "short.json"  # short pauses between the halves' play (the options say the rest)
+    short.write_text(json.dumps({"referee": {"ready_seconds": 5.0, "set_seconds": 1.0, "halftime_seconds": 2.0}}))
     code = main(
         [
             "match",
+            "--config",
+            str(short),
             "--half-seconds",
             "15",
             "--players-per-team",
@@ -165,7 +169,7 @@ def test_cli_match_writes_results(tmp_path: Path, capsys: pytest.CaptureFixture[
     events = [json.loads(line) for line in (out / "events.jsonl").read_text().splitlines()]
     assert events[0]["kind"] == "state" and any(e["kind"] == "full_time" for e in events)
     config = json.loads((out / "config.json").read_text())
-    assert config["referee"]["half_seconds"] == 15
+    assert config["referee"]["half_seconds"] == 15 and config["referee"]["ready_seconds"] == 5.0
     assert video.stat().st_size > 1000
 
 

@@ -211,7 +211,10 @@ def test_cli_video_shows_the_camera_beside_the_field(tmp_path):
     from PIL import Image
 
     video = tmp_path / "m.gif"
+    short = tmp_path / "short.json"  # a short match: the video's layout is what is checked
+    short.write_text('{"referee": {"ready_seconds": 3.0, "set_seconds": 1.0, "halftime_seconds": 1.0}}')
     args = ["match", "--players-per-team", "2", "--half-seconds", "2", "--video", str(video), "--video-fps", "2"]
+    args += ["--config", str(short)]
     assert main([*args, "--video-robot", "1:2"]) == 0
     with Image.open(video) as im:
         both, n_both = im.size, im.n_frames

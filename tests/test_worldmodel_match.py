@@ -21,7 +21,7 @@ def _run(channel: ChannelParams, seconds: float = 60.0):
             seed=3,
             localization="lowvar",
             channel=channel,
-            referee=RefereeParams(half_seconds=seconds),
+            referee=RefereeParams(half_seconds=seconds, ready_seconds=10.0, halftime_seconds=2.0),
         )
     )
     contributors, errors = [], []
