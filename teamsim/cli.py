@@ -45,6 +45,7 @@ import contextlib
 import dataclasses
 import json
 import math
+import os
 import re
 import sys
 from collections.abc import Callable, Mapping, Sequence
@@ -610,6 +611,10 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         handler = getattr(args, "handler", None)
         if handler is not None:
             return int(handler(args, stream))
+    except BrokenPipeError:  # the reader went away (``teamsim scenario list | head``): stop quietly
+        with contextlib.suppress(OSError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except (ValueError, TypeError, OSError) as exc:
         return _report(args.command, str(exc) or type(exc).__name__)
     except MemoryError as exc:  # an allocation sized by the input (the sizes are bounded where they are known)
