@@ -81,7 +81,9 @@ def register(sub: Any) -> None:
     c.add_argument("--workers", type=_workers, default=None, help="processes or Ray CPUs (default: all cores)")
     c.add_argument("--backend", choices=["local", "ray"], default="local", help="local processes or Ray tasks")
     c.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray instance)")
-    c.add_argument("--out", type=Path, default=None, help="output directory (required unless --report-only)")
+    c.add_argument(
+        "--out", type=Path, default=None, help="output directory (default out/compare/SCENARIO[+SCENARIO...])"
+    )
     c.add_argument("--retry-failed", action="store_true", help="run the failed runs in --out again")
     c.add_argument("--report-only", type=Path, default=None, metavar="DIR", help="rewrite DIR/report.md from its rows")
     c.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -139,9 +141,11 @@ def run_compare(args: argparse.Namespace, out: TextIO) -> int:
         path = write_report(args.report_only)
         print(f"report written to {path}", file=out)
         return 0
-    if not args.scenario or args.out is None:
-        raise ValueError("--scenario and --out are required (or --report-only DIR)")
+    if not args.scenario:
+        raise ValueError("--scenario is required (or --report-only DIR)")
     scenarios = [load(s) for s in args.scenario]
+    if args.out is None:
+        args.out = Path("out/compare") / "+".join(s.name for s in scenarios)
     tasks = plan(scenarios, args.variant, args.seeds)
     _prepare(args.out, overwrite=False)
     start = time.perf_counter()

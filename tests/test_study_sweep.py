@@ -243,3 +243,11 @@ def test_the_ball_noise_scenarios_measure_the_kalman_ball_like_the_darmstadt_tab
         rmse = [r["ball_rmse_m"] for r in runs.values()]
         assert all(low < v < high for v in rmse), (name, rmse)
         assert len(set(rmse)) == 3 and all(r["ball_frames"] > 600 for r in runs.values())
+
+
+def test_compare_without_out_writes_under_out_compare(tiny, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["compare", "--scenario", str(tiny), "--variant", "reset", "--seeds", "1", "--no-progress"]) == 0
+    rows = read_rows(tmp_path / "out" / "compare" / "tiny")
+    assert [(r["variant"], r["seed"], r["status"]) for r in rows.runs] == [("reset", 0, "ok")]
+    assert "out/compare/tiny/report.md" in capsys.readouterr().out
