@@ -70,6 +70,7 @@ import numpy as np
 from cognition.field import FIELD_PRESETS
 from cognition.gamestate import Penalty
 from cognition.localization import VARIANTS, LocalizationParams
+from cognition.params import Range, check_choice, check_number, from_mapping
 from cognition.worldmodel.kalman_ball import KalmanBallParams
 from teamsim.events import ForceFall, ForcePenalty, Kidnap, PlaceBall, ScriptedEvent
 from teamsim.match import MatchConfig
@@ -287,25 +288,22 @@ def _kind(v: Any) -> str:
     return f"{type(v).__name__} {v!r}"[:80]
 
 
+def _split(where: str) -> tuple[str, str]:
+    """``a.b.c`` as (``a.b``, ``c``); a top-level key belongs to ``scenario``."""
+    owner, _, name = where.rpartition(".")
+    return owner or "scenario", name
+
+
 def _number(v: Any, where: str, low: float, high: float, low_open: bool = False) -> float:
-    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
-        raise TypeError(f"{where}: expected a finite number, got {_kind(v)}")
-    if v < low or v > high or (low_open and v == low):
-        raise ValueError(f"{where}: must be in {'(' if low_open else '['}{low:g}, {high:g}], got {v!r}")
-    return float(v)
+    return float(check_number(*_split(where), v, Range(low, high, low_open=low_open)))
 
 
 def _integer(v: Any, where: str, low: int, high: int) -> int:
-    if isinstance(v, bool) or not isinstance(v, int):
-        raise TypeError(f"{where}: expected an integer, got {_kind(v)}")
-    if not low <= v <= high:
-        raise ValueError(f"{where}: must be in {low}..{high}, got {v}")
-    return v
+    return int(check_number(*_split(where), v, Range(low, high), integer=True))
 
 
 def _choice(v: Any, where: str, allowed: tuple[str, ...] | list[str]) -> str:
-    if v not in allowed:
-        raise ValueError(f"{where}: {v!r} is not allowed; valid: {list(allowed)}")
+    check_choice(*_split(where), v, allowed)
     return str(v)
 
 
@@ -374,15 +372,9 @@ def _variants(raw: Any) -> tuple[tuple[Variant, ...], bool]:
         t = _keys(table, where, ("localization", "localization_params", "ball"), ("localization",))
         loc = _choice(t["localization"], f"{where}.localization", VARIANTS)
         lp = LocalizationParams.from_mapping(t.get("localization_params", {}))
-        bp = _params(KalmanBallParams, t.get("ball", {}), f"{where}.ball")
+        bp = from_mapping(KalmanBallParams, t.get("ball", {}), f"{where}.ball")
         out.append(Variant(vname, loc, lp, bp))
     return tuple(out), True
-
-
-def _params(cls: Any, table: Any, where: str) -> Any:
-    from cognition.params import from_mapping
-
-    return from_mapping(cls, table, where)
 
 
 def _team(table: Any, where: str, n: int, carpet: tuple[float, float], home: bool) -> Team:
