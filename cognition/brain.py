@@ -21,7 +21,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from cognition.field import Field
+from cognition.field import ColourScheme, Field
 from cognition.oracle import OracleInput
 from cognition.representations import BrainOutput, SensorFrame
 
@@ -42,6 +42,10 @@ class BrainContext:
     """Cognition frames per second."""
     rng: np.random.Generator | None = None
     """The brain's own random stream, a child of the match seed (``None``: the brain seeds its own)."""
+    colours: ColourScheme | None = None
+    """Colours of goals, ball and jerseys, for vision on camera images (``None``: the ``modern`` scheme)."""
+    team: int = 0
+    """Own jersey: index into ``colours.team_colours`` (0 or 1)."""
 
 
 @runtime_checkable

@@ -161,11 +161,44 @@ class CameraRig:
         upper = replace(self.upper, width=width, height=height)
         return replace(self, upper=upper, lower=replace(self.lower, width=width, height=height))
 
-    def camera_matrix(self, camera: CameraName | int, head_yaw: float, head_pitch: float) -> CameraMatrix:
-        """The camera's pose and intrinsics for these head angles (rad)."""
+    def camera_matrix(
+        self,
+        camera: CameraName | int,
+        head_yaw: float,
+        head_pitch: float,
+        torso_roll: float = 0.0,
+        torso_pitch: float = 0.0,
+    ) -> CameraMatrix:
+        """The camera's pose and intrinsics for these head angles and torso orientation (rad).
+
+        ``torso_roll`` and ``torso_pitch`` are the torso's orientation against gravity as an
+        IMU reports it (a NAO standing still leans by 3 to 10 degrees); see
+        :func:`torso_rotation` for the conventions. The simulated robots stand upright (0).
+        """
         spec = self.spec(camera)
         rot, pos = head_camera_pose(self.neck_height, spec.offset_x, spec.offset_z, spec.tilt, head_yaw, head_pitch)
+        if torso_roll != 0.0 or torso_pitch != 0.0:
+            tilt = torso_rotation(torso_roll, torso_pitch)
+            rot, pos = tilt @ rot, tilt @ pos
         return CameraMatrix(rot, pos, spec)
+
+
+def torso_rotation(roll: float, pitch: float) -> NDArray[np.float64]:
+    """Rotation (3 x 3) of the robot's body about the ground point between its feet.
+
+    ``pitch`` (rad) turns about the robot's +y axis, positive leaning forward (the head
+    moves forward and down, as a positive head pitch looks down); ``roll`` (rad) turns about
+    +x, positive lifting the left side (leaning to the right). The body is rolled, then
+    pitched: ``R = Ry(pitch) @ Rx(roll)``, applied to the camera's rotation and position.
+    """
+    for name, value in (("torso_roll", roll), ("torso_pitch", pitch)):
+        if not math.isfinite(value) or abs(value) > math.pi / 2:
+            raise ValueError(f"{name} must be a finite angle in [-pi/2, pi/2] rad, got {value!r}")
+    cr, sr = math.cos(roll), math.sin(roll)
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
+    return ry @ rx
 
 
 def head_camera_pose(

@@ -33,6 +33,7 @@ from cognition.brain import Brain
 from cognition.geometry import wrap_angle
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.representations import RobotPose
+from cognition.vision import VisionParams
 
 BrainFactory = Callable[[int, int], Brain]
 """Makes the brain of (team index, player number)."""
@@ -50,6 +51,7 @@ def localizing_brains(
     params: LocalizationParams | None = None,
     return_rule: str | None = None,
     obstacle_model: str = "sectors",
+    vision: VisionParams | None = None,
 ) -> BrainFactory:
     """A factory of scripted players that localize with ``variant`` (one of ``VARIANTS``).
 
@@ -66,7 +68,7 @@ def localizing_brains(
         p = replace(p, return_rule=return_rule)
 
     def factory(team: int, number: int) -> Brain:
-        return LocalizingBrain(variant, p, obstacle_model=obstacle_model)
+        return LocalizingBrain(variant, p, obstacle_model=obstacle_model, vision=vision)
 
     return factory
 
@@ -76,6 +78,7 @@ def scripted_brains(
     params: LocalizationParams | None = None,
     return_rule: str | None = None,
     obstacle_model: str = "sectors",
+    vision: VisionParams | None = None,
 ) -> BrainFactory:
     """A factory of scripted team players (:class:`~cognition.behaviors.team_play.ScriptedBrain`):
     on truth beliefs without ``localization``, else on the cognition stack with that variant."""
@@ -89,7 +92,7 @@ def scripted_brains(
     if return_rule is not None:
         p = replace(p, return_rule=return_rule)
     return lambda team, number: ScriptedBrain(
-        beliefs="cognition", variant=localization, localization_params=p, obstacle_model=obstacle_model
+        beliefs="cognition", variant=localization, localization_params=p, obstacle_model=obstacle_model, vision=vision
     )
 
 
@@ -106,18 +109,19 @@ def default_brains(
     params: LocalizationParams,
     return_rule: str,
     obstacle_model: str = "sectors",
+    vision: VisionParams | None = None,
 ) -> BrainFactory:
     """The brains named by ``players``: ``scripted`` (:func:`scripted_brains`), ``oracle`` (oracle
     players without localization, localizing oracle players with it) or ``random``."""
     if players == "scripted":
-        return scripted_brains(localization, params, return_rule, obstacle_model)
+        return scripted_brains(localization, params, return_rule, obstacle_model, vision)
     if players == "random":
         return random_brains
     if players != "oracle":
         raise ValueError(f"unknown players {players!r}; valid: ['scripted', 'oracle', 'random']")
     if localization is None:
         return oracle_brains
-    return localizing_brains(localization, params, return_rule, obstacle_model)
+    return localizing_brains(localization, params, return_rule, obstacle_model, vision)
 
 
 @dataclass(frozen=True)

@@ -44,6 +44,9 @@ players                  scripted                      default brains: ``scripte
                                                        truth without ``localization``, else the cognition
                                                        stack), ``oracle`` (the foundation's players) or
                                                        ``random`` (random walkers)
+vision                   VisionParams                  the brains' vision on camera images (``observation``
+                                                       ``images``): line method ``dnt`` or ``hough``, colour
+                                                       thresholds (:mod:`cognition.vision`)
 =======================  ==============  ============  =============================================
 
 The numbers are checked against their ranges, and every section (``physics``, ``referee``,
@@ -76,6 +79,7 @@ from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
 from cognition.representations import MotionRequest, RobotPose, SensorFrame
+from cognition.vision import VisionParams
 from cognition.worldmodel import OBSTACLE_MODELS
 from teamsim.brains import BrainFactory, LocalizationErrors, default_brains
 from teamsim.brains import oracle_brains as oracle_brains  # re-exported
@@ -130,6 +134,7 @@ class MatchConfig:
     localization_params: LocalizationParams = dataclass_field(default_factory=LocalizationParams)
     obstacle_model: str = "sectors"
     players: str = "scripted"
+    vision: VisionParams = dataclass_field(default_factory=VisionParams)
 
     RANGES: ClassVar[Ranges] = {
         "seed": Range(0, 2**63 - 1),
@@ -145,6 +150,8 @@ class MatchConfig:
         lp = self.localization_params
         if isinstance(lp, Mapping):
             object.__setattr__(self, "localization_params", LocalizationParams.from_mapping(dict(lp)))
+        if isinstance(self.vision, Mapping):
+            object.__setattr__(self, "vision", from_mapping(VisionParams, dict(self.vision), "MatchConfig.vision"))
         check_ranges(self)  # numbers, and every section an instance of its parameters class
         check_choice("MatchConfig", "field", self.field, FIELD_PRESETS)
         check_choice("MatchConfig", "colours", self.colours, COLOUR_SCHEMES)
@@ -153,6 +160,12 @@ class MatchConfig:
             check_choice("MatchConfig", "localization", self.localization, VARIANTS)
         check_choice("MatchConfig", "obstacle_model", self.obstacle_model, OBSTACLE_MODELS)
         check_choice("MatchConfig", "players", self.players, PLAYERS)
+        if self.localization is not None and self.observation == "none" and self.players != "random":
+            raise ValueError(
+                f"MatchConfig: localization={self.localization!r} asks the robots to localize, but "
+                "observation='none' gives them no percepts and no camera images to localize on; use "
+                "observation='percepts' or 'images', or leave localization unset"
+            )
         if self.cognition_hz > self.physics.physics_hz:
             raise ValueError(
                 f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
@@ -249,7 +262,9 @@ class Match:
         self.image_count = 0
         """Camera images delivered to brains so far (all robots)."""
         if brains is None:
-            brains = default_brains(c.players, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
+            brains = default_brains(
+                c.players, c.localization, c.localization_params, c.referee.rules, c.obstacle_model, c.vision
+            )
         self.localization_errors = LocalizationErrors()
         """Errors of the brains' pose estimates (brains with a ``pose`` RobotPose; evaluation only)."""
         self.brains: list[Brain] = []
@@ -263,6 +278,8 @@ class Match:
                     field=self.field,
                     cognition_hz=c.cognition_hz,
                     rng=brain_rngs[i],
+                    colours=scheme,
+                    team=robot.team,
                 )
             )
             self.brains.append(brain)

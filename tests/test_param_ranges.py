@@ -35,6 +35,7 @@ from cognition.field import FIELD_PRESETS, FieldDimensions
 from cognition.localization import LocalizationParams
 from cognition.params import PROBABILITY, Range, check_number, positive
 from cognition.representations import HeadRequest, KickRequest, WalkRequest
+from cognition.vision import ColourParams, VisionParams
 from cognition.worldmodel.goal import GoalModel, GoalModelParams
 from cognition.worldmodel.hypotheses import HypothesisParams
 from cognition.worldmodel.kalman_ball import KalmanBallParams
@@ -74,6 +75,8 @@ BASES: dict[type, Any] = {
     SkillParams: SkillParams(),
     OracleParams: OracleParams(),
     EnvConfig: EnvConfig(),
+    VisionParams: VisionParams(),
+    ColourParams: ColourParams(),
     RewardWeights: RewardWeights(),
     MatchConfig: MatchConfig(),
     Kidnap: Kidnap(1.0, 0, 1, (0.5, -0.5, 1.0)),

@@ -43,6 +43,7 @@ from cognition.brain import BrainContext
 from cognition.localization import VARIANTS, LocalizationParams, Localizer
 from cognition.oracle import OracleInput
 from cognition.representations import BallModel, BrainOutput, RobotPose, SensorFrame
+from cognition.vision import VisionParams
 from cognition.worldmodel import OBSTACLE_MODELS
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs
 from cognition.worldmodel.goal import GoalEstimate
@@ -75,6 +76,7 @@ class LocalizingBrain(OracleBrain):
         oracle_params: OracleParams | None = None,
         head_params: HeadParams | None = None,
         obstacle_model: str = "sectors",
+        vision: VisionParams | None = None,
     ):
         if variant not in VARIANTS:
             raise ValueError(f"unknown localization variant {variant!r}; valid: {list(VARIANTS)}")
@@ -85,6 +87,7 @@ class LocalizingBrain(OracleBrain):
         self.localization_params = params or LocalizationParams()
         self.head_params = head_params or HeadParams()
         self.obstacle_model_name = obstacle_model
+        self.vision = vision
         self.world_model: CognitionBeliefs | None = None
         """Localization and world model on the robot's own frames (built in :meth:`reset`)."""
         self.head_state = "ball"
@@ -149,7 +152,9 @@ class LocalizingBrain(OracleBrain):
     def reset(self, context: BrainContext) -> None:
         """Remember the match facts and build a fresh world model (its localizer draws from the brain's stream)."""
         super().reset(context)
-        self.world_model = CognitionBeliefs(context, self.variant, self.localization_params, self.obstacle_model_name)
+        self.world_model = CognitionBeliefs(
+            context, self.variant, self.localization_params, self.obstacle_model_name, vision=self.vision
+        )
         self.head_state = "ball"
         self.sweep = HeadSweep(self.head_params)
 

@@ -38,6 +38,7 @@ from cognition.gamestate import GameStateId, SetPlay
 from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
 from cognition.representations import BrainOutput, MotionRequest, RobotPose, SensorFrame
+from cognition.vision import VisionParams
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, Teammate, TruthBeliefs
 from cognition.worldmodel.kalman_ball import KalmanBallParams
 from cognition.worldmodel.messages import Role
@@ -95,6 +96,7 @@ class ScriptedBrain:
         head_params: HeadParams | None = None,
         message_interval: float = 1.0,
         ball_params: KalmanBallParams | None = None,
+        vision: VisionParams | None = None,
     ):
         if beliefs not in ("cognition", "truth"):
             raise ValueError(f"unknown beliefs {beliefs!r}; valid: ['cognition', 'truth']")
@@ -106,6 +108,7 @@ class ScriptedBrain:
         self.head_params = head_params
         self.message_interval = message_interval
         self.ball_params = ball_params
+        self.vision = vision
         self.uses_oracle = beliefs == "truth" or variant == "oracle"
         self.context: BrainContext | None = None
         self.provider: CognitionBeliefs | TruthBeliefs | None = None
@@ -123,7 +126,7 @@ class ScriptedBrain:
             self.provider = TruthBeliefs(context)
         else:
             self.provider = CognitionBeliefs(
-                context, self.variant, self.localization_params, self.obstacle_model, self.ball_params
+                context, self.variant, self.localization_params, self.obstacle_model, self.ball_params, self.vision
             )
         self.skills = Skills(context, self.skill_params)
         self.head = HeadControl(context, self.head_params)

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -43,6 +43,7 @@ from cognition.inputs import InputCheck, merge_counts
 from cognition.localization import VARIANTS, LocalizationParams, Localizer, make_localizer
 from cognition.oracle import OracleInput
 from cognition.representations import BallModel, RobotPose, SensorFrame
+from cognition.vision import Vision, VisionParams
 from cognition.worldmodel.ball import KalmanBallModel
 from cognition.worldmodel.goal import GoalEstimate, GoalModel
 from cognition.worldmodel.hypotheses import BallHypotheses
@@ -166,7 +167,9 @@ class CognitionBeliefs:
     ``variant`` names the localization (:data:`cognition.localization.VARIANTS`); the
     ``oracle`` variant needs the true pose passed to :meth:`update`. ``obstacle_model`` is
     ``sectors`` or ``grid``; ``ball_params`` tunes the Kalman ball (its observation noise model,
-    Darmstadt V).
+    Darmstadt V). Frames that carry a camera image instead of percepts go through the vision
+    pipeline first (:class:`cognition.vision.Vision` with ``vision``, the colours and jersey of
+    the context), so everything after it runs on the same percepts either way.
 
     :attr:`localization_cpu_seconds` sums the CPU time (s, this thread) of the localizer's
     updates, so that a study can report the cost of a variant per update.
@@ -179,6 +182,7 @@ class CognitionBeliefs:
         params: LocalizationParams | None = None,
         obstacle_model: str = "sectors",
         ball_params: KalmanBallParams | None = None,
+        vision: VisionParams | None = None,
     ):
         from cognition.worldmodel import OBSTACLE_MODELS, make_obstacle_model
 
@@ -213,6 +217,9 @@ class CognitionBeliefs:
         """Counts the sensor input replaced before any model saw it (:mod:`cognition.inputs`)."""
         self.localization_cpu_seconds = 0.0
         """CPU time (s, this thread) spent in the localizer's updates so far."""
+        self.vision_params = vision or VisionParams()
+        self.vision: Vision | None = None
+        """The vision pipeline, built at the first frame that carries a camera image."""
 
     def rejected_inputs(self) -> dict[str, int]:
         """Inputs dropped so far, by kind: odometry (:mod:`cognition.inputs`), the localizer's
@@ -226,6 +233,8 @@ class CognitionBeliefs:
     def update(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> Beliefs:
         """Run localization and the world model on one frame (``true_pose``: only for ``oracle``)."""
         frame = self.inputs.frame(frame)
+        if frame.percepts is None and frame.image is not None:
+            frame = self._see(frame)
         started = time.thread_time()
         pose = self.localizer.update(frame, true_pose if self.variant == "oracle" else None)
         self.localization_cpu_seconds += time.thread_time() - started
@@ -251,6 +260,20 @@ class CognitionBeliefs:
             self.obstacle_model.obstacles, belief.look_at, "cognition",
         )  # fmt: skip
         return self.latest
+
+    def _see(self, frame: SensorFrame) -> SensorFrame:
+        """The frame with the percepts its camera image shows (the image observation path)."""
+        if self.vision is None:
+            c = self.context
+            self.vision = Vision(self.vision_params, c.field, c.colours or "modern", c.team)
+        image = frame.image
+        assert image is not None
+        o = frame.odometry
+        percepts = self.vision.detect(
+            image.pixels, image.camera, image.time, frame.head.yaw_rate, frame.head.pitch_rate,
+            walking=o.dx != 0.0 or o.dy != 0.0 or o.dtheta != 0.0,
+        )  # fmt: skip
+        return replace(frame, percepts=percepts)
 
     def message(self, role: Role = Role.NONE) -> bytes:
         """The team message (:mod:`cognition.worldmodel.messages`) of the latest beliefs: the

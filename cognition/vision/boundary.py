@@ -1,0 +1,61 @@
+"""Field boundary: where the carpet starts in each image column (DNT section 3.4).
+
+DNT's background removal scans each column from the top and takes the first run of a set
+number of consecutive green pixels as the start of the field; everything above it is
+background, never a field feature. The hall around a field holds green boards, green
+shirts and bright walls, so a single green pixel says nothing, and a run of green does.
+Two additions: the scan starts a little above the horizon of the camera matrix (the carpet
+is on the ground, so it can never appear above the horizon; this skips the hall's upper
+half) and the run length scales with the image height.
+
+Result: an ``int32`` array with one entry per column, the first row (``v``) of the field
+in that column, or the image height when the column shows no field.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.camera import CameraMatrix
+
+
+def horizon_rows(camera: CameraMatrix | None, width: int) -> NDArray[np.float64]:
+    """Row of the horizon in every column (0 where unknown or the camera looks upside down)."""
+    if camera is None or camera.rotation[2, 2] <= 0:
+        return np.zeros(width)
+    hz = camera.horizon()
+    if hz is None:
+        return np.zeros(width)
+    u = np.arange(width) + 0.5
+    return hz[0] + (hz[1] - hz[0]) * u / width
+
+
+def field_boundary(classes: NDArray[np.uint8], camera: CameraMatrix | None, min_run: int) -> NDArray[np.int32]:
+    """The first field row of each column of the class image (see the module docstring)."""
+    height, width = classes.shape
+    start = np.clip(np.floor(horizon_rows(camera, width)) - 2.0, 0, height).astype(np.int32)
+    out = np.empty(width, dtype=np.int32)
+    _boundary(classes, start, max(1, int(min_run)), out)
+    return out
+
+
+@nb.njit(cache=True)
+def _boundary(
+    classes: NDArray[np.uint8], start: NDArray[np.int32], run: int, out: NDArray[np.int32]
+) -> None:  # pragma: no cover
+    height, width = classes.shape
+    for i in range(width):
+        out[i] = height
+        n = 0
+        for j in range(start[i], height):
+            if classes[j, i] == 1:
+                n += 1
+                if n >= run:
+                    out[i] = j - run + 1
+                    break
+            else:
+                n = 0
+        if out[i] == height and n > 0:
+            out[i] = height - n  # a shorter run touching the bottom edge still is carpet

@@ -1,0 +1,168 @@
+"""Centre circle: voting at the circle's radius on the ground (NimbRo 5.2, after de Jong et al.).
+
+NimbRo finds the centre circle before extracting lines, because arcs of the circle would
+otherwise become short false lines: every line point votes for the positions at the circle's
+radius from it, the largest cluster of votes is the centre, and it is accepted only if the
+points that voted for it cover a wide range of directions. DNT (3.9) fits ellipses in the
+image instead; on the ground, with the radius known from the field map, voting is simpler
+and needs no ellipse fit. Both line methods use this detector: DNT's chains then run on the
+points that are not on the circle.
+
+Here every ground point votes on a ring of ``directions`` positions at the radius into a
+grid of ``cell`` metres; the best cell (summed with its neighbours) is refined by a
+least-squares fit of the centre (radius fixed) to the points within ``inlier`` of the
+circle, and accepted when there are at least ``min_points`` of them spanning at least
+``min_span`` radians of the circle seen from the centre. Points: robot frame, metres.
+
+A circle found this way is then checked against the image (:func:`verify_circle_nb`, in
+the spirit of DNT 3.9's *a contrario* validation: predict, then look): the circle is
+projected back into the image, and of its points that should be visible (inside the
+image, below the field boundary) at least ``min_coverage`` must land on white. Circles
+that voting builds from pieces of straight lines (a corner's two arms, say) predict white
+where there is only carpet, and fail.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.vision.projection import pixel_nb
+
+
+@nb.njit(cache=True)
+def _refine(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlier: float) -> tuple:  # pragma: no cover
+    """Gauss-Newton on the centre with the radius fixed; returns (cx, cy, inlier count)."""
+    n_in = 0
+    for _ in range(6):
+        jtj00 = jtj01 = jtj11 = 0.0
+        jtr0 = jtr1 = 0.0
+        n_in = 0
+        for k in range(pts.shape[0]):
+            dx, dy = pts[k, 0] - cx, pts[k, 1] - cy
+            d = math.hypot(dx, dy)
+            if d < 1e-9 or abs(d - radius) > inlier:
+                continue
+            n_in += 1
+            r = d - radius
+            jx, jy = -dx / d, -dy / d
+            jtj00 += jx * jx
+            jtj01 += jx * jy
+            jtj11 += jy * jy
+            jtr0 += jx * r
+            jtr1 += jy * r
+        det = jtj00 * jtj11 - jtj01 * jtj01
+        if n_in < 3 or abs(det) < 1e-12:
+            break
+        sx = -(jtj11 * jtr0 - jtj01 * jtr1) / det
+        sy = -(-jtj01 * jtr0 + jtj00 * jtr1) / det
+        cx += sx
+        cy += sy
+        if abs(sx) + abs(sy) < 1e-4:
+            break
+    return cx, cy, n_in
+
+
+@nb.njit(cache=True)
+def _span(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlier: float) -> float:  # pragma: no cover
+    """Angle (rad) of the circle covered by the inliers: 2 pi minus the largest empty gap."""
+    angles = np.empty(pts.shape[0])
+    n = 0
+    for k in range(pts.shape[0]):
+        dx, dy = pts[k, 0] - cx, pts[k, 1] - cy
+        if abs(math.hypot(dx, dy) - radius) <= inlier:
+            angles[n] = math.atan2(dy, dx)
+            n += 1
+    if n < 2:
+        return 0.0
+    a = np.sort(angles[:n])
+    gap = a[0] + 2.0 * math.pi - a[n - 1]
+    for k in range(1, n):
+        gap = max(gap, a[k] - a[k - 1])
+    return 2.0 * math.pi - gap
+
+
+@nb.njit(cache=True)
+def find_circle_nb(
+    pts: NDArray[np.float64],
+    radius: float,
+    cell: float,
+    directions: int,
+    inlier: float,
+    min_points: int,
+    min_span: float,
+) -> tuple:  # pragma: no cover - compiled
+    """The circle centre (x, y), its inlier count and covered angle, or NaNs (module docstring)."""
+    n = pts.shape[0]
+    if n < min_points:
+        return math.nan, math.nan, 0, 0.0
+    x0, x1 = np.min(pts[:, 0]) - radius - cell, np.max(pts[:, 0]) + radius + cell
+    y0, y1 = np.min(pts[:, 1]) - radius - cell, np.max(pts[:, 1]) + radius + cell
+    gw = min(int((x1 - x0) / cell) + 1, 400)
+    gh = min(int((y1 - y0) / cell) + 1, 400)
+    acc = np.zeros((gh, gw), dtype=np.int32)
+    cs = np.cos(2.0 * math.pi * np.arange(directions) / directions) * radius
+    sn = np.sin(2.0 * math.pi * np.arange(directions) / directions) * radius
+    for k in range(n):
+        for d in range(directions):
+            gx = int((pts[k, 0] + cs[d] - x0) / cell)
+            gy = int((pts[k, 1] + sn[d] - y0) / cell)
+            if 0 <= gx < gw and 0 <= gy < gh:
+                acc[gy, gx] += 1
+    best = 0
+    bx, by = -1, -1
+    for gy in range(1, gh - 1):
+        for gx in range(1, gw - 1):
+            if acc[gy, gx] == 0:
+                continue
+            s = 0
+            for a in range(-1, 2):
+                for b in range(-1, 2):
+                    s += acc[gy + a, gx + b]
+            if s > best:
+                best, bx, by = s, gx, gy
+    if bx < 0:
+        return math.nan, math.nan, 0, 0.0
+    cx, cy, n_in = _refine(pts, x0 + (bx + 0.5) * cell, y0 + (by + 0.5) * cell, radius, 2.0 * inlier)
+    cx, cy, n_in = _refine(pts, cx, cy, radius, inlier)
+    if n_in < min_points:
+        return math.nan, math.nan, n_in, 0.0
+    span = _span(pts, cx, cy, radius, inlier)
+    if span < min_span:
+        return math.nan, math.nan, n_in, span
+    return cx, cy, n_in, span
+
+
+@nb.njit(cache=True)
+def verify_circle_nb(
+    classes: NDArray[np.uint8],
+    boundary: NDArray[np.int32],
+    cam: NDArray[np.float64],
+    cx: float,
+    cy: float,
+    radius: float,
+    samples: int,
+) -> tuple:  # pragma: no cover - compiled
+    """(visible samples, share of them on white) of the circle projected into the image."""
+    height, width = classes.shape
+    visible = 0
+    white = 0
+    for k in range(samples):
+        a = 2.0 * math.pi * (k + 0.5) / samples
+        u, v, ok = pixel_nb(cam, cx + radius * math.cos(a), cy + radius * math.sin(a), 0.0)
+        if not ok:
+            continue
+        i, j = int(u), int(v)
+        if i < 1 or j < 1 or i >= width - 1 or j >= height - 1 or j < boundary[i]:
+            continue
+        visible += 1
+        hit = False
+        for dj in range(-1, 2):
+            for di in range(-1, 2):
+                if classes[j + dj, i + di] == 2:
+                    hit = True
+        white += hit
+    return visible, white / visible if visible > 0 else 0.0

@@ -1,0 +1,107 @@
+"""Line points from scanlines: the centres of white runs between green (DNT section 3.6.2).
+
+DNT scans the binarized image every 5-10 pixels vertically and horizontally and keeps the
+middle of every dark-white-dark transition as a line point. Here the scan runs on the
+class image below the field boundary; "dark" is carpet green (at most ``max_gap`` pixels of
+anything else between the green and the white, for blurred edges), and a run counts only if
+its length fits a painted line: at most about twice the width a line of the field's line
+width has at that pixel (from the camera matrix), so that robots' white bodies, the modern
+goals' posts and large white blobs do not become line points.
+
+A point is ``(u, v, run, direction)``: pixel centre of the run, its length (px) and 0 for a
+vertical scan (a column), 1 for a horizontal one (a row).
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.vision.projection import metres_per_pixel_nb
+
+WHITE = 2
+GREEN = 1
+
+
+@nb.njit(cache=True)
+def _green_within(classes: NDArray[np.uint8], j: int, i: int, dj: int, di: int, gap: int) -> bool:  # pragma: no cover
+    """True if a green pixel lies within ``gap`` steps of (j, i) in direction (dj, di), before any white."""
+    height, width = classes.shape
+    for k in range(gap):
+        jj, ii = j + k * dj, i + k * di
+        if jj < 0 or jj >= height or ii < 0 or ii >= width:
+            return False
+        c = classes[jj, ii]
+        if c == GREEN:
+            return True
+        if c == WHITE:
+            return False
+    return False
+
+
+@nb.njit(cache=True)
+def _accept(
+    cam: NDArray[np.float64], u: float, v: float, run: int, vertical: bool, width: float
+) -> bool:  # pragma: no cover
+    mv, mu = metres_per_pixel_nb(cam, u, v)
+    m = mv if vertical else mu
+    if not np.isfinite(m) or m <= 0.0:
+        return False
+    expected = width / m
+    return run <= 2.0 * expected + 2.0 and run >= 0.25 * expected - 1.0
+
+
+@nb.njit(cache=True)
+def line_points_nb(
+    classes: NDArray[np.uint8],
+    boundary: NDArray[np.int32],
+    cam: NDArray[np.float64],
+    step: int,
+    line_width: float,
+    max_gap: int,
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """All line points of the vertical and horizontal scanlines (module docstring), K x 4."""
+    height, width = classes.shape
+    cap = (width // step + 1) * height // 2 + (height // step + 1) * width // 2 + 16
+    out = np.empty((cap, 4))
+    n = 0
+    for i in range(step // 2, width, step):
+        j = max(boundary[i], 0)
+        while j < height and n < cap:
+            if classes[j, i] != WHITE:
+                j += 1
+                continue
+            j0 = j
+            while j < height and classes[j, i] == WHITE:
+                j += 1
+            run = j - j0
+            before = j0 == boundary[i] or _green_within(classes, j0 - 1, i, -1, 0, max_gap)
+            after = j < height and _green_within(classes, j, i, 1, 0, max_gap)
+            vm = 0.5 * (j0 + j)
+            if before and after and _accept(cam, i + 0.5, vm, run, True, line_width):
+                out[n, 0] = i + 0.5
+                out[n, 1] = vm
+                out[n, 2] = run
+                out[n, 3] = 0.0
+                n += 1
+    for j in range(step // 2, height, step):
+        i = 0
+        while i < width and n < cap:
+            if classes[j, i] != WHITE or j < boundary[i]:
+                i += 1
+                continue
+            i0 = i
+            while i < width and classes[j, i] == WHITE and j >= boundary[i]:
+                i += 1
+            run = i - i0
+            before = _green_within(classes, j, i0 - 1, 0, -1, max_gap)
+            after = i < width and _green_within(classes, j, i, 0, 1, max_gap)
+            um = 0.5 * (i0 + i)
+            if before and after and _accept(cam, um, j + 0.5, run, False, line_width):
+                out[n, 0] = um
+                out[n, 1] = j + 0.5
+                out[n, 2] = run
+                out[n, 3] = 1.0
+                n += 1
+    return out[:n]

@@ -1,0 +1,320 @@
+"""Line segments from line points: greedy chaining and collinear merging (DNT section 3.6.2).
+
+DNT's Algorithm 1: starting from a point, repeatedly look at the five nearest unused points,
+keep those whose connection to the chain's end is covered by white (the white ratio), and
+append the best one as long as the chain stays straight; straightness is the paper's error
+function (eq. 1), the sum of the squared distances of the chain's points from the line
+through its first and last point, here compared with ``tolerance^2`` times the number of
+points. A chain that cannot grow is stored; before it is stored, DNT checks whether it
+extends an already stored line: two segments merge when the error of all their points
+about the line through the two farthest end points stays small and the gap between their
+nearest ends is covered by white.
+
+Two additions: a chain grows from both of its ends (the first point may lie in the middle of
+a line) and only forwards (the next point must not turn back), and the five nearest points
+are looked up in a grid of buckets instead of a scan over all points.
+
+Pixels: ``u`` right, ``v`` down. Output: per segment the least-squares line's end points
+``(u1, v1, u2, v2)`` (the extreme points projected onto the fitted line) and the number of
+points; per point the index of its segment or -1.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+WHITE = 2
+
+
+@nb.njit(cache=True)
+def white_ratio_nb(classes: NDArray[np.uint8], u0: float, v0: float, u1: float, v1: float) -> float:  # pragma: no cover
+    """Share of the samples along the pixel segment that are white (or have a white 4-neighbour)."""
+    height, width = classes.shape
+    n = int(max(abs(u1 - u0), abs(v1 - v0))) + 1
+    white = 0
+    for k in range(n + 1):
+        t = k / n
+        i = int(u0 + (u1 - u0) * t)
+        j = int(v0 + (v1 - v0) * t)
+        if i < 0 or j < 0 or i >= width or j >= height:
+            continue
+        if (
+            classes[j, i] == WHITE
+            or (i > 0 and classes[j, i - 1] == WHITE)
+            or (i + 1 < width and classes[j, i + 1] == WHITE)
+            or (j > 0 and classes[j - 1, i] == WHITE)
+            or (j + 1 < height and classes[j + 1, i] == WHITE)
+        ):
+            white += 1
+    return white / (n + 1)
+
+
+@nb.njit(cache=True)
+def _error(
+    pts: NDArray[np.float64], chain: NDArray[np.int64], lo: int, hi: int, a: int, b: int
+) -> float:  # pragma: no cover
+    """Eq. 1: sum of squared distances of chain[lo:hi] from the line through points a and b."""
+    ax, ay = pts[a, 0], pts[a, 1]
+    dx, dy = pts[b, 0] - ax, pts[b, 1] - ay
+    norm = math.hypot(dx, dy)
+    if norm < 1e-9:
+        return 0.0
+    e = 0.0
+    for k in range(lo, hi):
+        p = chain[k]
+        d = ((pts[p, 0] - ax) * dy - (pts[p, 1] - ay) * dx) / norm
+        e += d * d
+    return e
+
+
+@nb.njit(cache=True)
+def _grid(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  # pragma: no cover
+    """Bucket the points into a gw x gh grid (CSR: start offsets and point order)."""
+    n = pts.shape[0]
+    count = np.zeros(gw * gh + 1, dtype=np.int64)
+    key = np.empty(n, dtype=np.int64)
+    for p in range(n):
+        gx = min(gw - 1, int(pts[p, 0] / cell))
+        gy = min(gh - 1, int(pts[p, 1] / cell))
+        key[p] = gy * gw + gx
+        count[key[p] + 1] += 1
+    for c in range(gw * gh):
+        count[c + 1] += count[c]
+    order = np.empty(n, dtype=np.int64)
+    fill = count[:-1].copy()
+    for p in range(n):
+        order[fill[key[p]]] = p
+        fill[key[p]] += 1
+    return count, order
+
+
+@nb.njit(cache=True)
+def _extend(
+    pts: NDArray[np.float64],
+    classes: NDArray[np.uint8],
+    chain: NDArray[np.int64],
+    lo: int,
+    hi: int,
+    tail: bool,
+    used: NDArray[np.bool_],
+    start: NDArray[np.int64],
+    order: NDArray[np.int64],
+    cell: float,
+    gw: int,
+    gh: int,
+    gap: float,
+    tolerance: float,
+    min_white: float,
+) -> int:  # pragma: no cover - compiled
+    """The best next point at the chain's tail (or head), or -1 (DNT Algorithm 1, lines 5-9)."""
+    end = chain[hi - 1] if tail else chain[lo]
+    other = chain[lo] if tail else chain[hi - 1]
+    ex, ey = pts[end, 0], pts[end, 1]
+    fx, fy = ex - pts[other, 0], ey - pts[other, 1]
+    gx0 = int(ex / cell)
+    gy0 = int(ey / cell)
+    best_d = np.full(5, np.inf)
+    best_p = np.full(5, -1, dtype=np.int64)
+    for gy in range(max(0, gy0 - 1), min(gh, gy0 + 2)):
+        for gx in range(max(0, gx0 - 1), min(gw, gx0 + 2)):
+            c = gy * gw + gx
+            for k in range(start[c], start[c + 1]):
+                p = order[k]
+                if used[p]:
+                    continue
+                dx, dy = pts[p, 0] - ex, pts[p, 1] - ey
+                d = math.hypot(dx, dy)
+                if d > gap or d < 1e-9:
+                    continue
+                if hi - lo >= 2 and dx * fx + dy * fy <= 0.0:
+                    continue  # would turn back
+                # keep the five nearest (insertion into a sorted list of five)
+                if d < best_d[4]:
+                    m = 4
+                    while m > 0 and best_d[m - 1] > d:
+                        best_d[m] = best_d[m - 1]
+                        best_p[m] = best_p[m - 1]
+                        m -= 1
+                    best_d[m] = d
+                    best_p[m] = p
+    choice = -1
+    choice_ratio = -1.0
+    for m in range(5):
+        p = best_p[m]
+        if p < 0:
+            break
+        ratio = white_ratio_nb(classes, ex, ey, pts[p, 0], pts[p, 1])
+        if ratio < min_white or ratio <= choice_ratio:
+            continue
+        # eq. 1 for the chain with p appended, about the line from its far end to p
+        e = _error(pts, chain, lo, hi, other, p)
+        if e <= tolerance * tolerance * (hi - lo + 1):
+            choice = p
+            choice_ratio = ratio
+    return choice
+
+
+@nb.njit(cache=True)
+def _fit(pts: NDArray[np.float64], idx: NDArray[np.int64], out: NDArray[np.float64]) -> float:  # pragma: no cover
+    """Least-squares line of the points ``idx``: end points into ``out[0:4]``; returns the rms distance."""
+    n = idx.shape[0]
+    mx = 0.0
+    my = 0.0
+    for p in idx:
+        mx += pts[p, 0]
+        my += pts[p, 1]
+    mx /= n
+    my /= n
+    sxx = 0.0
+    sxy = 0.0
+    syy = 0.0
+    for p in idx:
+        dx, dy = pts[p, 0] - mx, pts[p, 1] - my
+        sxx += dx * dx
+        sxy += dx * dy
+        syy += dy * dy
+    theta = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
+    c, s = math.cos(theta), math.sin(theta)
+    tmin, tmax, r2 = np.inf, -np.inf, 0.0
+    for p in idx:
+        dx, dy = pts[p, 0] - mx, pts[p, 1] - my
+        t = dx * c + dy * s
+        tmin = min(tmin, t)
+        tmax = max(tmax, t)
+        q = -dx * s + dy * c
+        r2 += q * q
+    out[0] = mx + tmin * c
+    out[1] = my + tmin * s
+    out[2] = mx + tmax * c
+    out[3] = my + tmax * s
+    return math.sqrt(r2 / n)
+
+
+@nb.njit(cache=True)
+def segments_nb(
+    pts: NDArray[np.float64],
+    classes: NDArray[np.uint8],
+    gap: float,
+    tolerance: float,
+    min_white: float,
+    min_points: int,
+    merge_angle: float,
+) -> tuple:  # pragma: no cover - compiled
+    """Chain the points into segments and merge collinear neighbours (module docstring).
+
+    Returns ``(segments, labels)``: segments S x 5 (u1, v1, u2, v2, number of points) and the
+    segment index of every point (-1: in no segment).
+    """
+    n = pts.shape[0]
+    labels = np.full(n, -1, dtype=np.int64)
+    if n == 0:
+        return np.zeros((0, 5)), labels
+    height, width = classes.shape
+    cell = max(gap, 1.0)
+    gw = int(width / cell) + 1
+    gh = int(height / cell) + 1
+    start, order = _grid(pts, cell, gw, gh)
+    used = np.zeros(n, dtype=np.bool_)
+    chain = np.empty(2 * n + 2, dtype=np.int64)
+    n_seg = 0
+    for s in range(n):
+        if used[s]:
+            continue
+        lo = n + 1
+        hi = n + 2
+        chain[lo] = s
+        used[s] = True
+        for tail in (True, False):
+            while True:
+                p = _extend(
+                    pts, classes, chain, lo, hi, tail, used, start, order, cell, gw, gh, gap, tolerance, min_white
+                )
+                if p < 0:
+                    break
+                used[p] = True
+                if tail:
+                    chain[hi] = p
+                    hi += 1
+                else:
+                    lo -= 1
+                    chain[lo] = p
+        if hi - lo >= 2:
+            for k in range(lo, hi):
+                labels[chain[k]] = n_seg
+            n_seg += 1
+    # merge collinear, connected chains (DNT storeLine)
+    ends = np.zeros((n_seg, 4))
+    alive = np.ones(n_seg, dtype=np.bool_)
+    members = [np.empty(0, dtype=np.int64) for _ in range(0)]
+    for g in range(n_seg):
+        members.append(np.where(labels == g)[0])
+        _fit(pts, members[g], ends[g])
+    merged = True
+    passes = 0
+    while merged and passes < 6:
+        merged = False
+        passes += 1
+        for a in range(n_seg):
+            if not alive[a]:
+                continue
+            for b in range(a + 1, n_seg):
+                if not alive[b]:
+                    continue
+                if not _collinear(ends[a], ends[b], merge_angle):
+                    continue
+                both = np.concatenate((members[a], members[b]))
+                trial = np.empty(4)
+                rms = _fit(pts, both, trial)
+                if rms > tolerance:
+                    continue
+                if not _connected(classes, ends[a], ends[b], gap, min_white):
+                    continue
+                members[a] = both
+                ends[a, :] = trial
+                alive[b] = False
+                merged = True
+    count = 0
+    for g in range(n_seg):
+        if alive[g] and members[g].shape[0] >= min_points:
+            count += 1
+    out = np.zeros((count, 5))
+    labels[:] = -1
+    k = 0
+    for g in range(n_seg):
+        if alive[g] and members[g].shape[0] >= min_points:
+            out[k, :4] = ends[g]
+            out[k, 4] = members[g].shape[0]
+            for p in members[g]:
+                labels[p] = k
+            k += 1
+    return out, labels
+
+
+@nb.njit(cache=True)
+def _collinear(a: NDArray[np.float64], b: NDArray[np.float64], max_angle: float) -> bool:  # pragma: no cover
+    ta = math.atan2(a[3] - a[1], a[2] - a[0])
+    tb = math.atan2(b[3] - b[1], b[2] - b[0])
+    d = abs(ta - tb) % math.pi
+    return min(d, math.pi - d) <= max_angle
+
+
+@nb.njit(cache=True)
+def _connected(
+    classes: NDArray[np.uint8], a: NDArray[np.float64], b: NDArray[np.float64], gap: float, min_white: float
+) -> bool:  # pragma: no cover
+    """The nearest ends of a and b are close, or the gap between them is covered by white."""
+    best = np.inf
+    bi, bj = 0, 0
+    for i in range(2):
+        for j in range(2):
+            d = math.hypot(a[2 * i] - b[2 * j], a[2 * i + 1] - b[2 * j + 1])
+            if d < best:
+                best, bi, bj = d, i, j
+    # overlapping segments (one end inside the other's span) are connected
+    if best <= gap:
+        return True
+    return white_ratio_nb(classes, a[2 * bi], a[2 * bi + 1], b[2 * bj], b[2 * bj + 1]) >= min_white
