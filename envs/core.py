@@ -14,8 +14,8 @@ mode        beliefs
 truth       oracle providers (:class:`~cognition.worldmodel.beliefs.TruthBeliefs`); no camera
 percepts    synthesized percepts through localization and the world model
             (:class:`~cognition.worldmodel.beliefs.CognitionBeliefs`)
-images      reserved: camera images through a vision pipeline, with the image in the
-            observation; it needs the vision module of a later milestone and is refused now
+images      rendered camera images (``images`` preset of the image effects) through each robot's
+            vision (:mod:`cognition.vision`), then the same localization and world model
 ==========  =================================================================================
 
 Reward terms (per agent and step; :class:`RewardWeights` scales them, read from ground truth,
@@ -59,7 +59,7 @@ from teamsim.referee import RefereeParams
 from teamsim.render import TopDownRenderer, VideoWriter
 
 OBSERVATION_MODES: tuple[str, ...] = ("truth", "percepts", "images")
-"""Observation modes by name (``images`` is reserved for the vision milestone)."""
+"""Observation modes by name."""
 TEAM_NAMES = ("home", "away")
 CONTROL = ("home", "away", "both")
 OPPONENTS = ("scripted", "random")
@@ -121,6 +121,7 @@ class EnvConfig:
     render_mode: str | None = None
     render_path: str = "soccer_v0.mp4"
     percepts: str = "default"
+    images: str = "default"
 
     RANGES: ClassVar[Ranges] = {
         "players_per_team": Range(1, MAX_PLAYERS_PER_TEAM),
@@ -143,11 +144,6 @@ class EnvConfig:
         ):
             if value not in valid:
                 raise ValueError(f"unknown {name} {value!r}; valid: {list(valid)}")
-        if self.observation == "images":
-            raise ValueError(
-                "observation='images' needs the vision pipeline that turns camera images into percepts, "
-                "which teamsim does not have yet; use 'percepts' (the same stack on synthesized percepts) or 'truth'"
-            )
         if self.cognition_hz is None:
             # the filters of the cognition stack run at 30 Hz; the oracle needs no more than the decisions
             object.__setattr__(self, "cognition_hz", self.decision_hz if self.observation == "truth" else 30.0)
@@ -249,8 +245,9 @@ class SoccerCore:
             seed=int(seed),
             players_per_team=c.players_per_team,
             cognition_hz=float(c.cognition_hz),  # type: ignore[arg-type]
-            observation="none" if truth else "percepts",
+            observation="none" if truth else c.observation,
             percepts=c.percepts,
+            images=c.images,
             localization=None if truth else c.localization,
             obstacle_model=c.obstacle_model,
             referee=RefereeParams(half_seconds=c.half_seconds),

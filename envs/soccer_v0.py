@@ -11,7 +11,8 @@ Two teams of simulated NAO robots play SPL soccer under a referee (kickoffs, goa
 with side switch, penalties). The agents are the robots of the team(s) named by ``control``;
 every other robot runs the scripted team play (:mod:`cognition.behaviors.team_play`) or
 random walking. Each agent's observation is built from its own robot's beliefs: the full
-cognition stack on synthesized camera percepts (``percepts``) or the oracle providers
+cognition stack on synthesized camera percepts (``percepts``), on its own vision of rendered
+camera images (``images``) or the oracle providers
 (``truth``). Physics runs at 100 Hz, cognition at ``cognition_hz`` and decisions at
 ``decision_hz``; between decisions a continuous action is held and a macro-action keeps
 running on fresh beliefs. Machinery: :mod:`envs.core`.
@@ -39,7 +40,7 @@ on. A finished agent's AEC step takes ``None``; anything else is a ``ValueError`
 |---|---|---|
 | ``players_per_team`` | 5 | robots per team, in [1, 7] |
 | ``control`` | ``home`` | agents: ``home``, ``away`` or ``both`` teams |
-| ``observation`` | ``percepts`` | ``percepts`` or ``truth``; ``images`` is reserved for the vision milestone (refused with an explanation) |
+| ``observation`` | ``percepts`` | ``percepts`` (synthesized percepts), ``images`` (rendered camera images through each robot's vision, :mod:`cognition.vision`) or ``truth`` |
 | ``localization`` | ``maturing`` | localization variant in ``percepts`` mode (``cognition.localization.VARIANTS``) |
 | ``obstacle_model`` | ``sectors`` | world-model obstacle variant (``sectors`` or ``grid``) |
 | ``action_type`` | ``continuous`` | ``continuous`` or ``discrete`` |
@@ -53,6 +54,7 @@ on. A finished agent's AEC step takes ``None``; anything else is a ``ValueError`
 | ``render_mode`` | None | ``rgb_array`` (``render()`` returns the top-down view) or ``human`` (every step writes a frame to ``render_path``; no display needed) |
 | ``render_path`` | ``soccer_v0.mp4`` | video file of ``human`` mode (``.mp4`` or ``.gif``) |
 | ``percepts`` | ``default`` | percept noise preset (``ideal``, ``default``, ``harsh``) |
+| ``images`` | ``default`` | image-effects preset in ``images`` mode (``ideal``, ``default``, ``harsh``) |
 
 ## Version history
 

@@ -1,0 +1,295 @@
+"""The vision pipeline (:mod:`cognition.vision`) stage by stage, on synthetic images with
+known content, on rendered frames, on YUV422 input and on bad input.
+
+Synthetic images are painted here from ground-plane geometry with the camera model (a green
+carpet, white lines of the field's width projected as polygons), so the truth is exact and
+independent of the simulator's renderer.
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+import pytest
+
+from cognition.camera import CameraMatrix, CameraRig, torso_rotation
+from cognition.field import FIELD_PRESETS, Field
+from cognition.percepts import Kind
+from cognition.vision import Colour, Vision, VisionError, VisionParams, rgb_to_yuv422
+from cognition.vision.birdseye import birds_eye, ground_to_view
+from cognition.vision.boundary import field_boundary
+from cognition.vision.colour import ColourClassifier
+
+FIELD = Field(FIELD_PRESETS["spl2025"], "spl2025")
+GREEN = (0, 140, 40)
+WHITE = (250, 250, 250)
+
+
+def paint(
+    camera: CameraMatrix,
+    lines: list[tuple[float, float, float, float]],
+    width: float = 0.05,
+    seed: int = 0,
+    circle: tuple[float, float, float] | None = None,
+) -> np.ndarray:
+    """A camera image of green carpet with white ground lines (robot frame, m), slightly noisy;
+    the sky above the horizon is grey."""
+    s = camera.spec
+    img = np.full((s.height, s.width, 3), (90, 90, 96), dtype=np.uint8)
+    carpet = np.array([[-1.0, -20.0, 0.0], [30.0, -20.0, 0.0], [30.0, 20.0, 0.0], [-1.0, 20.0, 0.0]])
+    _fill(img, camera, carpet, GREEN)
+    for x1, y1, x2, y2 in lines:
+        d = np.array([x2 - x1, y2 - y1])
+        n = np.array([-d[1], d[0]]) / np.linalg.norm(d) * width / 2
+        quad = np.array([[x1 + n[0], y1 + n[1]], [x2 + n[0], y2 + n[1]], [x2 - n[0], y2 - n[1]], [x1 - n[0], y1 - n[1]]])
+        _fill(img, camera, np.column_stack([quad, np.zeros(4)]), WHITE)
+    if circle is not None:
+        cx, cy, r = circle
+        a = np.linspace(0.0, 2.0 * math.pi, 181)
+        for k in range(180):
+            for lo, hi in ((r - width / 2, r + width / 2),):
+                quad = [
+                    (cx + lo * math.cos(a[k]), cy + lo * math.sin(a[k])),
+                    (cx + hi * math.cos(a[k]), cy + hi * math.sin(a[k])),
+                    (cx + hi * math.cos(a[k + 1]), cy + hi * math.sin(a[k + 1])),
+                    (cx + lo * math.cos(a[k + 1]), cy + lo * math.sin(a[k + 1])),
+                ]
+                _fill(img, camera, np.column_stack([np.array(quad), np.zeros(4)]), WHITE)
+    rng = np.random.default_rng(seed)
+    return np.clip(img + rng.normal(0.0, 2.0, img.shape), 0, 255).astype(np.uint8)
+
+
+def _fill(img: np.ndarray, camera: CameraMatrix, polygon: np.ndarray, colour: tuple[int, int, int]) -> None:
+    """Fill a ground polygon (clipped to the part in front of the camera)."""
+    pts = _clip_front(camera, polygon)
+    if len(pts) < 3:
+        return
+    uv, _ = camera.project(pts)
+    cv2.fillPoly(img, [np.round(uv * 16).astype(np.int32)], colour, lineType=cv2.LINE_AA, shift=4)
+
+
+def _clip_front(camera: CameraMatrix, poly: np.ndarray, near: float = 0.05) -> np.ndarray:
+    """Sutherland-Hodgman clip of a polygon to camera depth >= near."""
+    depth = (poly - camera.position) @ camera.rotation[:, 0]
+    out = []
+    for k in range(len(poly)):
+        a, b = poly[k], poly[(k + 1) % len(poly)]
+        da, db = depth[k], depth[(k + 1) % len(poly)]
+        if da >= near:
+            out.append(a)
+        if (da >= near) != (db >= near):
+            out.append(a + (b - a) * (near - da) / (db - da))
+    return np.array(out).reshape(-1, 3)
+
+
+def _camera(yaw: float = 0.0, pitch: float = 0.25, roll: float = 0.0, torso_pitch: float = 0.0) -> CameraMatrix:
+    return CameraRig().camera_matrix("upper", yaw, pitch, torso_roll=roll, torso_pitch=torso_pitch)
+
+
+# -- stages on synthetic images -----------------------------------------------------------
+
+
+def test_colour_classes_and_calibration_follow_the_exposure() -> None:
+    cam = _camera()
+    img = paint(cam, [(1.0, -1.0, 3.0, -1.0)])
+    for gain in (0.55, 1.0, 1.35):  # dim hall, normal, overexposed
+        dark = np.clip(img.astype(np.float32) * gain, 0, 255).astype(np.uint8)
+        cl = ColourClassifier()
+        classes = cl.classify(dark, cam)
+        below = classes[cam.spec.height // 2 :]
+        assert np.mean(below == Colour.GREEN) > 0.85, gain
+        u, v = cam.project([[2.0, -1.0, 0.0]])[0][0]
+        assert classes[int(v), int(u)] == Colour.WHITE, gain
+        assert abs(cl.calibration.value - np.median(dark[-20:, :, 1])) < 12
+
+
+def test_field_boundary_ignores_green_above_the_horizon() -> None:
+    cam = _camera(pitch=0.1)
+    img = paint(cam, [])
+    img[5:25, 100:200] = GREEN  # a green board in the hall, above the horizon
+    classes = ColourClassifier().classify(img, cam)
+    b = field_boundary(classes, cam, 6)
+    hz = cam.horizon()
+    assert hz is not None
+    assert np.all(b[100:200] >= min(hz) - 3)
+    assert np.all(b < cam.spec.height)
+
+
+def test_a_known_t_crossing_is_found_as_a_t_at_its_pixel_and_orientation() -> None:
+    cam = _camera(pitch=0.3)
+    # a T: bar along y at x = 2.5, stem from the bar toward the robot
+    img = paint(cam, [(2.5, -1.2, 2.5, 1.2), (1.3, 0.3, 2.5, 0.3)])
+    p = Vision(field=FIELD, scheme="classic").detect(img, cam)
+    cross = p.crossings
+    assert len(cross) == 1, cross.rows
+    assert cross.subtype[0] == 1  # T
+    u, v = cam.project([[2.5, 0.3, 0.0]])[0][0]
+    assert np.hypot(*(cross.uv[0] - (u, v))) < 3.0
+    assert np.hypot(*(cross.xy[0] - (2.5, 0.3))) < 0.1
+    stem = math.pi  # from the junction toward the robot
+    assert abs(math.remainder(cross.orientation[0] - stem, 2 * math.pi)) < math.radians(5)
+
+
+def test_l_and_x_crossings_and_their_orientations() -> None:
+    cam = _camera(pitch=0.3)
+    corner = paint(cam, [(2.0, 0.0, 2.0, 1.2), (2.0, 0.0, 3.2, 0.0)])
+    p = Vision(field=FIELD, scheme="classic").detect(corner, cam)
+    assert p.crossings.subtype.tolist() == [0]
+    assert np.hypot(*(p.crossings.xy[0] - (2.0, 0.0))) < 0.1
+    assert abs(math.remainder(p.crossings.orientation[0] - math.pi / 4, 2 * math.pi)) < math.radians(6)
+    cross = paint(cam, [(2.5, -1.0, 2.5, 1.0), (1.5, 0.2, 3.5, 0.2)])
+    p = Vision(field=FIELD, scheme="classic").detect(cross, cam)
+    assert p.crossings.subtype.tolist() == [2]
+    assert np.hypot(*(p.crossings.xy[0] - (2.5, 0.2))) < 0.1
+
+
+def test_a_line_seen_to_the_image_edge_makes_no_l() -> None:
+    """A line that leaves the image has no known end: a corner there would be a guess."""
+    cam = _camera(pitch=0.3)
+    img = paint(cam, [(2.0, 0.0, 2.0, 5.0), (2.0, 0.0, 9.0, 0.0)])
+    img[:, :40] = (60, 60, 60)  # an object covers the left of the image (not carpet)
+    p = Vision(field=FIELD, scheme="classic").detect(img, cam)
+    assert all(k != 0 or np.hypot(*(xy - (2.0, 0.0))) < 0.15 for k, xy in zip(p.crossings.subtype, p.crossings.xy))
+
+
+def test_lines_are_measured_on_the_ground() -> None:
+    cam = _camera(yaw=0.3, pitch=0.28)
+    img = paint(cam, [(1.0, 0.4, 3.0, 1.4)])
+    p = Vision(field=FIELD, scheme="classic").detect(img, cam)
+    assert len(p.lines) == 1
+    a, b = p.lines.xy[0], p.lines.xy2[0]
+    for q in (a, b):  # end points lie on the true line (within 3 cm)
+        r = q - (1.0, 0.4)
+        d = (2.0 * r[1] - 1.0 * r[0]) / math.hypot(2.0, 1.0)
+        assert abs(d) < 0.03
+    assert abs(p.lines.orientation[0] - math.atan2(1.0, 2.0)) < math.radians(2)
+
+
+def test_centre_circle_found_and_not_made_up() -> None:
+    cam = _camera(pitch=0.35)
+    img = paint(cam, [(2.2, -1.5, 2.2, 1.5)], circle=(2.2, 0.0, FIELD.centre_circle.radius))
+    p = Vision(field=FIELD, scheme="classic").detect(img, cam)
+    assert len(p.circle) == 1
+    assert np.hypot(*(p.circle.xy[0] - (2.2, 0.0))) < 0.1
+    # the halfway line through the centre crosses the circle twice: two X
+    xs = p.crossings.xy[p.crossings.subtype == 2]
+    assert len(xs) >= 1
+    assert all(min(np.hypot(*(x - (2.2, s * 0.75))) for s in (-1, 1)) < 0.12 for x in xs)
+    corner = paint(cam, [(1.5, -0.75, 1.5, 1.5), (1.5, -0.75, 3.0, -0.75), (3.0, -1.5, 3.0, 1.5)])
+    assert len(Vision(field=FIELD, scheme="classic").detect(corner, cam).circle) == 0
+
+
+def test_the_torso_lean_is_part_of_the_camera_matrix() -> None:
+    """A robot leaning forward by 5 degrees: the upright model misplaces a T by decimetres,
+    the camera matrix with the IMU's pitch finds it where it is."""
+    lean = math.radians(5)
+    real = _camera(pitch=0.2, torso_pitch=lean)
+    img = paint(real, [(2.8, -1.2, 2.8, 1.2), (1.6, 0.2, 2.8, 0.2)])
+    right = Vision(field=FIELD, scheme="classic").detect(img, real).crossings
+    wrong = Vision(field=FIELD, scheme="classic").detect(img, _camera(pitch=0.2)).crossings
+    assert len(right) == 1 and np.hypot(*(right.xy[0] - (2.8, 0.2))) < 0.1
+    assert len(wrong) == 0 or np.hypot(*(wrong.xy[0] - (2.8, 0.2))) > 0.4
+    # the rotation pivots at the ground point between the feet
+    assert np.allclose(torso_rotation(0.0, lean) @ np.array([0.0, 0.0, 1.0]), [math.sin(lean), 0.0, math.cos(lean)])
+    roundtrip, ok = real.pixel_to_ground(real.project([[2.0, -0.4, 0.0]])[0])
+    assert ok[0] and np.allclose(roundtrip[0], [2.0, -0.4], atol=1e-9)
+
+
+def test_birds_eye_view_puts_ground_points_where_they_are() -> None:
+    cam = _camera(pitch=0.3)
+    img = paint(cam, [(2.0, -0.5, 2.0, 0.5)])
+    view = birds_eye(img, cam, far=4.0, half_width=2.0, metres_per_pixel=0.02)
+    c, r = ground_to_view(np.array([[2.0, 0.0]]), far=4.0, half_width=2.0, metres_per_pixel=0.02)[0]
+    assert view[int(r), int(c)].min() > 200  # the white line
+    assert view[int(r) + 10, int(c), 1] > view[int(r) + 10, int(c), 0] + 60  # carpet 20 cm nearer
+    assert view[-1, 0].max() == 0  # beside and behind the camera's view: black
+
+
+# -- input formats and bad input -----------------------------------------------------------
+
+
+def test_yuv422_gives_the_same_percepts_as_rgb() -> None:
+    from teamsim.images import ImageRenderer
+    from teamsim.percepts import Scene, SceneRobot
+
+    ren = ImageRenderer(FIELD, "classic", CameraRig(), "default", np.random.default_rng(3))
+    matched = 0
+    for k, pose in enumerate([(-1.2, 0.4, 0.3), (2.0, -1.0, -0.2), (-3.0, 1.5, -1.0), (0.5, 2.0, 2.8)]):
+        scene = Scene.build([SceneRobot(0, 1, *pose, head_pitch=0.25)], (pose[0] + 1.0, pose[1]), 1)
+        img, cam = ren.render(scene, 0), ren.camera_matrix(scene, 0)
+        a = Vision(field=FIELD, scheme="classic").detect(img, cam)
+        b = Vision(field=FIELD, scheme="classic").detect(rgb_to_yuv422(img), cam)
+        for kind in Kind:
+            ta, tb = a.table(kind), b.table(kind)
+            assert len(ta) == len(tb), (k, kind)
+            if len(ta) and kind == Kind.LINE:  # an end may gain or lose a few scanline points
+                mid_a, mid_b = (ta.uv + ta.uv2) / 2, (tb.uv + tb.uv2) / 2
+                gap = np.hypot(*(mid_a[:, None, :] - mid_b[None, :, :]).transpose(2, 0, 1))
+                assert np.all(gap.min(axis=1) < 10.0), (k, gap)
+            elif len(ta):
+                gap = np.hypot(*(ta.uv[:, None, :] - tb.uv[None, :, :]).transpose(2, 0, 1))
+                assert np.all(gap.min(axis=1) < 2.0), (k, kind, gap)
+            matched += len(ta)
+    assert matched >= 4
+
+
+@pytest.mark.parametrize(
+    ("image", "message"),
+    [
+        ([[1, 2, 3]], "must be a numpy array"),
+        (np.zeros((240, 320, 3), dtype=np.float32), "dtype uint8"),
+        (np.zeros((240, 320), dtype=np.uint8), r"H x W x 3 \(RGB\) or H x W x 2"),
+        (np.zeros((240, 320, 4), dtype=np.uint8), r"H x W x 3 \(RGB\) or H x W x 2"),
+        (np.zeros((120, 160, 3), dtype=np.uint8), "160 x 120 pixels but the camera matrix is for 320 x 240"),
+        (np.zeros((4, 4, 3), dtype=np.uint8), "outside"),
+    ],
+)
+def test_bad_images_are_clear_errors(image: object, message: str) -> None:
+    with pytest.raises(VisionError, match=message):
+        Vision().detect(image, _camera())  # type: ignore[arg-type]
+
+
+def test_bad_camera_matrices_are_clear_errors() -> None:
+    cam = _camera()
+    img = np.zeros((240, 320, 3), dtype=np.uint8)
+    rot = cam.rotation.copy()
+    rot[0, 0] = np.nan
+    with pytest.raises(VisionError, match="non-finite entries in its rotation"):
+        Vision().detect(img, CameraMatrix(rot, cam.position, cam.spec))
+    pos = cam.position.copy()
+    pos[2] = np.inf
+    with pytest.raises(VisionError, match="non-finite entries in its position"):
+        Vision().detect(img, CameraMatrix(cam.rotation, pos, cam.spec))
+    with pytest.raises(VisionError, match="CameraMatrix"):
+        Vision().detect(img, "upper")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="torso_pitch must be a finite angle"):
+        CameraRig().camera_matrix("upper", 0.0, 0.0, torso_pitch=math.nan)
+
+
+def test_degenerate_images_give_no_percepts() -> None:
+    cam = _camera()
+    for img in (
+        np.zeros((240, 320, 3), dtype=np.uint8),
+        np.full((240, 320, 3), 255, dtype=np.uint8),
+        np.full((240, 320, 3), GREEN, dtype=np.uint8),
+        np.random.default_rng(0).integers(0, 256, (240, 320, 3), dtype=np.uint8),
+    ):
+        p = Vision().detect(img, cam)
+        assert len(p.crossings) == len(p.circle) == len(p.posts) == 0
+    tiny = CameraRig().with_resolution(8, 8).camera_matrix("upper", 0.0, 0.4)
+    assert len(Vision().detect(np.full((8, 8, 3), GREEN, dtype=np.uint8), tiny)) == 0
+
+
+def test_params_are_checked() -> None:
+    with pytest.raises(ValueError, match="VisionParams.scan_step"):
+        VisionParams(scan_step=0)
+    with pytest.raises(ValueError, match="method"):
+        from cognition.params import from_mapping
+
+        from_mapping(VisionParams, {"method": "canny"})
+    with pytest.raises(ValueError, match="unknown VisionParams key"):
+        from cognition.params import from_mapping
+
+        from_mapping(VisionParams, {"scanstep": 3})
