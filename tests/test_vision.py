@@ -16,7 +16,7 @@ import pytest
 
 from cognition.camera import CameraMatrix, CameraRig, torso_rotation
 from cognition.field import FIELD_PRESETS, Field
-from cognition.percepts import Kind
+from cognition.percepts import Kind, Percepts
 from cognition.vision import Colour, Vision, VisionError, VisionParams, rgb_to_yuv422
 from cognition.vision.birdseye import birds_eye, ground_to_view
 from cognition.vision.boundary import field_boundary
@@ -210,29 +210,61 @@ def test_birds_eye_view_puts_ground_points_where_they_are() -> None:
 # -- input formats and bad input -----------------------------------------------------------
 
 
+def _same(a: Percepts, b: Percepts, tolerance: float) -> tuple[int, int]:
+    """(percepts of ``a`` with a percept of the same kind in ``b`` within ``tolerance`` px, all of ``a``)."""
+    found = total = 0
+    for kind in Kind:
+        ta, tb = a.table(kind), b.table(kind)
+        for k in range(len(ta)):
+            total += 1
+            if kind == Kind.LINE:
+                m = (ta.uv[k] + ta.uv2[k]) / 2
+                gaps = [_point_segment(m, s0, s1) for s0, s1 in zip(tb.uv, tb.uv2, strict=True)]
+            else:
+                gaps = list(np.hypot(*(tb.uv - ta.uv[k]).T))
+            found += bool(gaps) and min(gaps) < tolerance
+    return found, total
+
+
 def test_yuv422_gives_the_same_percepts_as_rgb() -> None:
+    """NAO cameras deliver YUV422; a frame packed from an RGB image gives its percepts. Chroma
+    subsampling moves blended edge pixels, so on rendered frames a borderline detection may
+    come and go; on clean painted images everything is the same."""
+    cam = _camera(pitch=0.3)
+    for lines, circle in (
+        ([(2.5, -1.2, 2.5, 1.2), (1.3, 0.3, 2.5, 0.3)], None),
+        ([(2.0, 0.0, 2.0, 1.2), (2.0, 0.0, 3.2, 0.0)], None),
+        ([(2.2, -1.5, 2.2, 1.5)], (2.2, 0.0, 0.75)),
+    ):
+        img = paint(cam, lines, circle=circle)
+        a = Vision(field=FIELD, scheme="classic").detect(img, cam)
+        b = Vision(field=FIELD, scheme="classic").detect(rgb_to_yuv422(img), cam)
+        assert [len(a.table(k)) for k in Kind] == [len(b.table(k)) for k in Kind]
+        assert _same(a, b, 1.5) == (len(a), len(a)) and len(a) >= 2
+
     from teamsim.images import ImageRenderer
     from teamsim.percepts import Scene, SceneRobot
 
     ren = ImageRenderer(FIELD, "classic", CameraRig(), "default", np.random.default_rng(3))
-    matched = 0
-    for k, pose in enumerate([(-1.2, 0.4, 0.3), (2.0, -1.0, -0.2), (-3.0, 1.5, -1.0), (0.5, 2.0, 2.8)]):
-        scene = Scene.build([SceneRobot(0, 1, *pose, head_pitch=0.25)], (pose[0] + 1.0, pose[1]), 1)
+    found = total = 0
+    rng = np.random.default_rng(7)
+    for _ in range(12):
+        pose = (rng.uniform(-4, 4), rng.uniform(-2.5, 2.5), rng.uniform(-3, 3))
+        scene = Scene.build([SceneRobot(0, 1, *pose, head_pitch=rng.uniform(0.1, 0.4))], (pose[0] + 1.0, pose[1]), 1)
         img, cam = ren.render(scene, 0), ren.camera_matrix(scene, 0)
         a = Vision(field=FIELD, scheme="classic").detect(img, cam)
         b = Vision(field=FIELD, scheme="classic").detect(rgb_to_yuv422(img), cam)
-        for kind in Kind:
-            ta, tb = a.table(kind), b.table(kind)
-            assert len(ta) == len(tb), (k, kind)
-            if len(ta) and kind == Kind.LINE:  # an end may gain or lose a few scanline points
-                mid_a, mid_b = (ta.uv + ta.uv2) / 2, (tb.uv + tb.uv2) / 2
-                gap = np.hypot(*(mid_a[:, None, :] - mid_b[None, :, :]).transpose(2, 0, 1))
-                assert np.all(gap.min(axis=1) < 10.0), (k, gap)
-            elif len(ta):
-                gap = np.hypot(*(ta.uv[:, None, :] - tb.uv[None, :, :]).transpose(2, 0, 1))
-                assert np.all(gap.min(axis=1) < 2.0), (k, kind, gap)
-            matched += len(ta)
-    assert matched >= 4
+        for x, y in ((a, b), (b, a)):
+            f, t = _same(x, y, 6.0)
+            found, total = found + f, total + t
+    assert total >= 30 and found >= 0.85 * total, (found, total)
+
+
+def _point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    """Distance (px) of point p from the segment a-b."""
+    d = b - a
+    t = float(np.clip(np.dot(p - a, d) / max(np.dot(d, d), 1e-12), 0.0, 1.0))
+    return float(np.hypot(*(p - a - t * d)))
 
 
 @pytest.mark.parametrize(

@@ -15,7 +15,7 @@ edge_gap                3 px             [1, 20]        pixels allowed between g
 chain_gap               12 px            [1, 100]       farthest link between two points of a chain
 chain_tolerance         1.5 px           (0, 20]        rms distance of a chain's points from its line (eq. 1)
 min_white               0.7              [0, 1]         white ratio of a link (DNT: "usually 1.0")
-min_points              3                [2, 100]       points of a reported segment
+min_points              4                [2, 100]       points of a reported segment
 merge_angle             6 deg            [0, pi/2]      direction difference of segments that may merge
 min_line_length         0.10 m           [0, 100]       shorter segments (on the ground) are dropped
 max_distance            6.0 m            (0, 100]       features farther away (on the ground) are dropped
@@ -26,7 +26,7 @@ circle_cell             0.05 m           (0, 1]         vote grid of the centre 
 circle_directions       32               [4, 360]       votes per point on the ring
 circle_inlier           0.08 m           (0, 1]         distance from the circle of its points
 circle_min_points       8                [3, 1000]      inliers of an accepted circle
-circle_min_span         120 deg          [0, 2pi]       arc the inliers must cover
+circle_min_span         90 deg           [0, 2pi]       arc the inliers must cover
 circle_min_coverage     0.6              [0, 1]         share of the projected circle's visible points on white
 mark_tolerance          0.6              (0, 5]         relative size error of a penalty mark blob
 mark_min_green          0.8              [0, 1]         green share of the ring around a mark
@@ -70,7 +70,7 @@ class VisionParams:
     chain_gap: float = 12.0
     chain_tolerance: float = 1.5
     min_white: float = 0.7
-    min_points: int = 3
+    min_points: int = 4
     merge_angle: float = 6.0 * _DEG
     min_line_length: float = 0.10
     max_distance: float = 6.0
@@ -81,7 +81,7 @@ class VisionParams:
     circle_directions: int = 32
     circle_inlier: float = 0.08
     circle_min_points: int = 8
-    circle_min_span: float = 120.0 * _DEG
+    circle_min_span: float = 90.0 * _DEG
     circle_min_coverage: float = 0.6
     mark_tolerance: float = 0.6
     mark_min_green: float = 0.8

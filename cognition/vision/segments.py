@@ -3,9 +3,13 @@
 DNT's Algorithm 1: starting from a point, repeatedly look at the five nearest unused points,
 keep those whose connection to the chain's end is covered by white (the white ratio), and
 append the best one as long as the chain stays straight; straightness is the paper's error
-function (eq. 1), the sum of the squared distances of the chain's points from the line
-through its first and last point, here compared with ``tolerance^2`` times the number of
-points. A chain that cannot grow is stored; before it is stored, DNT checks whether it
+function (eq. 1), the sum of the squared distances of the chain's points from a line,
+compared here with ``tolerance^2`` times the number of points. DNT measures it about the
+line through the chain's first and last point; here it is measured about the chain's
+least-squares line (kept as running sums, so each test costs the same for any chain
+length), which a single stray first point cannot throw off; and no single point may lie
+farther than ``2 tolerance`` from it, or a long chain would swallow a point of a line that
+meets it. A chain that cannot grow is stored; before it is stored, DNT checks whether it
 extends an already stored line: two segments merge when the error of all their points
 about the line through the two farthest end points stays small and the gap between their
 nearest ends is covered by white.
@@ -54,21 +58,43 @@ def white_ratio_nb(classes: NDArray[np.uint8], u0: float, v0: float, u1: float, 
 
 
 @nb.njit(cache=True)
-def _error(
-    pts: NDArray[np.float64], chain: NDArray[np.int64], lo: int, hi: int, a: int, b: int
-) -> float:  # pragma: no cover
-    """Eq. 1: sum of squared distances of chain[lo:hi] from the line through points a and b."""
-    ax, ay = pts[a, 0], pts[a, 1]
-    dx, dy = pts[b, 0] - ax, pts[b, 1] - ay
-    norm = math.hypot(dx, dy)
-    if norm < 1e-9:
+def _scatter_error(sums: NDArray[np.float64], x: float, y: float) -> float:  # pragma: no cover - compiled
+    """Sum of squared distances from their least-squares line of the points in ``sums`` plus (x, y).
+
+    ``sums`` holds n, sum x, sum y, sum xx, sum xy, sum yy; the result is the smaller
+    eigenvalue of the scatter matrix.
+    """
+    n = sums[0] + 1.0
+    sx, sy = sums[1] + x, sums[2] + y
+    cxx = sums[3] + x * x - sx * sx / n
+    cxy = sums[4] + x * y - sx * sy / n
+    cyy = sums[5] + y * y - sy * sy / n
+    half = 0.5 * (cxx + cyy)
+    return max(0.0, half - math.sqrt(max(0.0, 0.25 * (cxx - cyy) ** 2 + cxy * cxy)))
+
+
+@nb.njit(cache=True)
+def _off_line(sums: NDArray[np.float64], x: float, y: float) -> float:  # pragma: no cover - compiled
+    """Distance of (x, y) from the least-squares line of the points in ``sums`` (0 below 3 points)."""
+    n = sums[0]
+    if n < 3.0:
         return 0.0
-    e = 0.0
-    for k in range(lo, hi):
-        p = chain[k]
-        d = ((pts[p, 0] - ax) * dy - (pts[p, 1] - ay) * dx) / norm
-        e += d * d
-    return e
+    mx, my = sums[1] / n, sums[2] / n
+    cxx = sums[3] - n * mx * mx
+    cxy = sums[4] - n * mx * my
+    cyy = sums[5] - n * my * my
+    theta = 0.5 * math.atan2(2.0 * cxy, cxx - cyy)
+    return abs(-(x - mx) * math.sin(theta) + (y - my) * math.cos(theta))
+
+
+@nb.njit(cache=True)
+def _add(sums: NDArray[np.float64], x: float, y: float) -> None:  # pragma: no cover - compiled
+    sums[0] += 1.0
+    sums[1] += x
+    sums[2] += y
+    sums[3] += x * x
+    sums[4] += x * y
+    sums[5] += y * y
 
 
 @nb.njit(cache=True)
@@ -109,6 +135,7 @@ def _extend(
     gap: float,
     tolerance: float,
     min_white: float,
+    sums: NDArray[np.float64],
 ) -> int:  # pragma: no cover - compiled
     """The best next point at the chain's tail (or head), or -1 (DNT Algorithm 1, lines 5-9)."""
     end = chain[hi - 1] if tail else chain[lo]
@@ -150,9 +177,9 @@ def _extend(
         ratio = white_ratio_nb(classes, ex, ey, pts[p, 0], pts[p, 1])
         if ratio < min_white or ratio <= choice_ratio:
             continue
-        # eq. 1 for the chain with p appended, about the line from its far end to p
-        e = _error(pts, chain, lo, hi, other, p)
-        if e <= tolerance * tolerance * (hi - lo + 1):
+        # eq. 1 for the chain with p appended, about the chain's least-squares line
+        e = _scatter_error(sums, pts[p, 0], pts[p, 1])
+        if e <= tolerance * tolerance * (hi - lo + 1) and _off_line(sums, pts[p, 0], pts[p, 1]) <= 2.0 * tolerance:
             choice = p
             choice_ratio = ratio
     return choice
@@ -220,6 +247,7 @@ def segments_nb(
     start, order = _grid(pts, cell, gw, gh)
     used = np.zeros(n, dtype=np.bool_)
     chain = np.empty(2 * n + 2, dtype=np.int64)
+    sums = np.zeros(6)
     n_seg = 0
     for s in range(n):
         if used[s]:
@@ -228,14 +256,18 @@ def segments_nb(
         hi = n + 2
         chain[lo] = s
         used[s] = True
+        sums[:] = 0.0
+        _add(sums, pts[s, 0], pts[s, 1])
         for tail in (True, False):
             while True:
                 p = _extend(
-                    pts, classes, chain, lo, hi, tail, used, start, order, cell, gw, gh, gap, tolerance, min_white
-                )
+                    pts, classes, chain, lo, hi, tail, used, start, order, cell, gw, gh, gap, tolerance, min_white,
+                    sums,
+                )  # fmt: skip
                 if p < 0:
                     break
                 used[p] = True
+                _add(sums, pts[p, 0], pts[p, 1])
                 if tail:
                     chain[hi] = p
                     hi += 1

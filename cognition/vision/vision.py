@@ -280,6 +280,32 @@ def _nearest_points(g: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 @nb.njit(cache=True)
+def _follow_white(
+    classes: NDArray[np.uint8], u: float, v: float, du: float, dv: float, steps: int
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """The last point along (du, dv) from (u, v), at most ``steps`` px, that is still white (or
+    has a white neighbour across the direction)."""
+    height, width = classes.shape
+    last_u, last_v = u, v
+    for q in range(1, steps + 1):
+        cu, cv = u + du * q, v + dv * q
+        i, j = int(cu), int(cv)
+        if i < 0 or j < 0 or i >= width or j >= height:
+            break
+        ni, nj = int(cu - dv), int(cv + du)
+        mi, mj = int(cu + dv), int(cv - du)
+        white = classes[j, i] == 2
+        if not white and 0 <= ni < width and 0 <= nj < height:
+            white = classes[nj, ni] == 2
+        if not white and 0 <= mi < width and 0 <= mj < height:
+            white = classes[mj, mi] == 2
+        if not white:
+            break
+        last_u, last_v = cu, cv
+    return last_u, last_v
+
+
+@nb.njit(cache=True)
 def _segments_on_ground_nb(
     cam: NDArray[np.float64],
     seg: NDArray[np.float64],
@@ -288,6 +314,7 @@ def _segments_on_ground_nb(
     min_length: float,
     max_distance: float,
     probe: int,
+    extend: int,
     keep: NDArray[np.bool_],
     ground: NDArray[np.float64],
     open_ends: NDArray[np.bool_],
@@ -295,6 +322,13 @@ def _segments_on_ground_nb(
     height, width = classes.shape
     for k in range(seg.shape[0]):
         u1, v1, u2, v2 = seg[k, 0], seg[k, 1], seg[k, 2], seg[k, 3]
+        # the scanlines leave up to a step of white beyond the last point: follow the white
+        length = math.hypot(u2 - u1, v2 - v1)
+        if length > 1e-9:
+            du, dv = (u2 - u1) / length, (v2 - v1) / length
+            u1, v1 = _follow_white(classes, u1, v1, -du, -dv, extend)
+            u2, v2 = _follow_white(classes, u2, v2, du, dv, extend)
+            seg[k, 0], seg[k, 1], seg[k, 2], seg[k, 3] = u1, v1, u2, v2
         x1, y1, ok1 = ground_nb(cam, u1, v1, 0.0)
         x2, y2, ok2 = ground_nb(cam, u2, v2, 0.0)
         keep[k] = (
@@ -343,7 +377,10 @@ def _segments_on_ground(
     ground = np.zeros((n, 4))
     open_ends = np.zeros((n, 2), dtype=np.bool_)
     if n:
-        _segments_on_ground_nb(cam, seg, classes, boundary, min_length, max_distance, probe, keep, ground, open_ends)
+        extend = 2 * probe
+        _segments_on_ground_nb(
+            cam, seg, classes, boundary, min_length, max_distance, probe, extend, keep, ground, open_ends
+        )
     return seg[keep], ground[keep], open_ends[keep]
 
 
