@@ -14,42 +14,35 @@ in that column, or the image height when the column shows no field.
 
 from __future__ import annotations
 
+import math
+
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
 from cognition.camera import CameraMatrix
-
-
-def horizon_rows(camera: CameraMatrix | None, width: int) -> NDArray[np.float64]:
-    """Row of the horizon in every column (0 where unknown or the camera looks upside down)."""
-    if camera is None or camera.rotation[2, 2] <= 0:
-        return np.zeros(width)
-    hz = camera.horizon()
-    if hz is None:
-        return np.zeros(width)
-    u = np.arange(width) + 0.5
-    return hz[0] + (hz[1] - hz[0]) * u / width
+from cognition.vision.projection import horizon_row_nb
 
 
 def field_boundary(classes: NDArray[np.uint8], camera: CameraMatrix | None, min_run: int) -> NDArray[np.int32]:
     """The first field row of each column of the class image (see the module docstring)."""
-    height, width = classes.shape
-    start = np.clip(np.floor(horizon_rows(camera, width)) - 2.0, 0, height).astype(np.int32)
-    out = np.empty(width, dtype=np.int32)
-    _boundary(classes, start, max(1, int(min_run)), out)
+    out = np.empty(classes.shape[1], dtype=np.int32)
+    cam = camera.as_row() if camera is not None else np.full(18, np.nan)
+    _boundary(classes, cam, max(1, int(min_run)), out)
     return out
 
 
 @nb.njit(cache=True)
 def _boundary(
-    classes: NDArray[np.uint8], start: NDArray[np.int32], run: int, out: NDArray[np.int32]
-) -> None:  # pragma: no cover
+    classes: NDArray[np.uint8], cam: NDArray[np.float64], run: int, out: NDArray[np.int32]
+) -> None:  # pragma: no cover - compiled
     height, width = classes.shape
     for i in range(width):
         out[i] = height
         n = 0
-        for j in range(start[i], height):
+        hz = horizon_row_nb(cam, i + 0.5) if math.isfinite(cam[0]) else 0.0
+        start = int(min(max(math.floor(hz) - 2.0, 0.0), float(height))) if math.isfinite(hz) else 0
+        for j in range(start, height):
             if classes[j, i] == 1:
                 n += 1
                 if n >= run:
@@ -57,5 +50,5 @@ def _boundary(
                     break
             else:
                 n = 0
-        if out[i] == height and n > 0:
+        if out[i] == height and n >= 2:
             out[i] = height - n  # a shorter run touching the bottom edge still is carpet

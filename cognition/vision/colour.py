@@ -43,6 +43,7 @@ default_green          (68, 230, 130)  [0, 255]    carpet (hue, saturation, valu
 
 from __future__ import annotations
 
+import math
 from collections import OrderedDict
 from dataclasses import dataclass
 from enum import IntEnum
@@ -54,6 +55,7 @@ from numpy.typing import NDArray
 
 from cognition.camera import CameraMatrix
 from cognition.params import Range, Ranges, check_ranges
+from cognition.vision.projection import horizon_row_nb
 
 
 class Colour(IntEnum):
@@ -130,10 +132,12 @@ class Calibration:
     """Carpet pixels the medians come from (0: the defaults were used)."""
 
 
-_CALIBRATION_STEP = 8
+_CALIBRATION_STEP = 12
 """Grid spacing (px at 320 x 240, scaled with the width) of the calibration samples."""
 _MIN_SAMPLES = 24
 """Fewer carpet samples than this: keep the previous (or default) calibration."""
+_NO_CAMERA = np.full(18, np.nan)
+"""Camera row of "no camera matrix": calibrate on the whole image."""
 _CACHE = 64
 """Lookup tables kept per classifier (one per quantized calibration)."""
 
@@ -150,18 +154,13 @@ class ColourClassifier:
 
     def calibrate(self, rgb: NDArray[np.uint8], camera: CameraMatrix | None) -> Calibration:
         """Measure the carpet colour below the horizon of ``rgb`` (H x W x 3) and keep it."""
-        height, width = rgb.shape[:2]
-        top = 0
-        if camera is not None:
-            hz = camera.horizon()
-            if hz is not None and camera.rotation[2, 2] > 0:
-                top = int(min(max(max(hz) + 2.0, 0.0), height - 1))
+        width = rgb.shape[1]
+        cam = camera.as_row() if camera is not None else _NO_CAMERA
         step = max(2, round(_CALIBRATION_STEP * width / 320))
         lo, hi = self.params.green_hue
-        found = _carpet_samples(rgb, top, step, lo, hi, 60)
-        if found.shape[0] >= _MIN_SAMPLES:
-            med = np.median(found, axis=0)
-            self.calibration = Calibration(int(med[0]), int(med[1]), int(med[2]), int(found.shape[0]))
+        h, s, v, n = _carpet_median(rgb, cam, step, lo, hi, 60.0)
+        if n >= _MIN_SAMPLES:
+            self.calibration = Calibration(int(h), int(s), int(v), n)
         return self.calibration
 
     def lut(self, calibration: Calibration | None = None) -> NDArray[np.uint8]:
@@ -273,20 +272,30 @@ def _classify(rgb: NDArray[np.uint8], table: NDArray[np.uint8], out: NDArray[np.
 
 
 @nb.njit(cache=True)
-def _carpet_samples(
-    rgb: NDArray[np.uint8], top: int, step: int, lo: float, hi: float, min_sat: float
-) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """HSV of grid pixels below row ``top`` whose hue is in [lo, hi] with saturation >= min_sat."""
+def _carpet_median(
+    rgb: NDArray[np.uint8], cam: NDArray[np.float64], step: int, lo: float, hi: float, min_sat: float
+) -> tuple[float, float, float, int]:  # pragma: no cover - compiled
+    """Medians (hue, saturation, value) and count of the grid pixels below the horizon whose hue
+    is in [lo, hi] with saturation >= min_sat."""
     height, width = rgb.shape[0], rgb.shape[1]
+    top = 0
+    if math.isfinite(cam[0]):
+        hz = max(horizon_row_nb(cam, 0.0), horizon_row_nb(cam, float(width)))
+        if math.isfinite(hz):
+            top = int(min(max(hz + 2.0, 0.0), height - 1.0))
     n_max = ((height - top) // step + 1) * (width // step + 1)
-    out = np.empty((n_max, 3))
+    hs = np.empty(n_max)
+    ss = np.empty(n_max)
+    vs = np.empty(n_max)
     n = 0
     for j in range(top + step // 2, height, step):
         for i in range(step // 2, width, step):
             h, s, v = _hsv(float(rgb[j, i, 0]), float(rgb[j, i, 1]), float(rgb[j, i, 2]))
             if lo <= h <= hi and s >= min_sat and v >= 12.0:
-                out[n, 0] = h
-                out[n, 1] = s
-                out[n, 2] = v
+                hs[n] = h
+                ss[n] = s
+                vs[n] = v
                 n += 1
-    return out[:n]
+    if n == 0:
+        return 0.0, 0.0, 0.0, 0
+    return np.median(hs[:n]), np.median(ss[:n]), np.median(vs[:n]), n

@@ -92,3 +92,12 @@ def sigmas(
     sa = base_alpha + c_tilt * abs(pitch_rate) + (moving_alpha if walking else 0.0)
     sb = base_beta + c_pan * abs(yaw_rate) + (moving_beta if walking else 0.0)
     return sa, sb
+
+
+@nb.njit(cache=True)
+def horizon_row_nb(cam: NDArray[np.float64], u: float) -> float:  # pragma: no cover - compiled
+    """Row of the horizon at column ``u`` (-inf when the camera looks upside down or straight down)."""
+    r20, r21, r22 = cam[6], cam[7], cam[8]
+    if r22 <= 1e-12:
+        return -math.inf
+    return cam[15] + cam[13] * (r20 + r21 * (cam[14] - u) / cam[12]) / r22

@@ -42,7 +42,7 @@ from numpy.typing import NDArray
 
 from cognition.camera import CameraMatrix
 from cognition.field import FIELD_PRESETS, ColourScheme, Field, make_colour_scheme
-from cognition.percepts import N_COLS, N_KINDS, Col, Kind, Percepts, covariance_nb
+from cognition.percepts import N_COLS, N_KINDS, Col, Kind, Percepts
 from cognition.vision.boundary import field_boundary
 from cognition.vision.circle import find_circle_nb, verify_circle_nb
 from cognition.vision.colour import ColourClassifier
@@ -51,6 +51,7 @@ from cognition.vision.image import as_rgb, check_camera
 from cognition.vision.marks import marks_nb
 from cognition.vision.params import VisionParams
 from cognition.vision.projection import ground_nb, pixel_nb, sigmas
+from cognition.vision.rows import line_rows_nb, point_rows_nb
 from cognition.vision.scanlines import line_points_nb
 from cognition.vision.segments import segments_nb
 
@@ -163,13 +164,16 @@ class Vision:
             head_pitch_rate, head_yaw_rate, walking,
         )  # fmt: skip
         tables: list[NDArray[np.float64]] = [_EMPTY] * N_KINDS
-        tables[Kind.CROSS] = _crossing_rows(cross, cam, sa, sb)
-        tables[Kind.LINE] = _line_rows(seg_px, seg_ground, cam, sa, sb)
+        crossing_rows = point_rows_nb(np.ascontiguousarray(cross[:, :2]), _no_pixels(len(cross)), 0.0, cam, sa, sb)
+        crossing_rows[:, Col.SUBTYPE] = cross[:, 2]
+        crossing_rows[:, Col.ORIENTATION] = cross[:, 3]
+        tables[Kind.CROSS] = crossing_rows
+        tables[Kind.LINE] = line_rows_nb(seg_px, seg_ground, cam, sa, sb)
         if math.isfinite(circle[0]):
-            tables[Kind.CIRCLE] = _point_rows(np.array([circle]), cam, sa, sb, 0.0)
+            tables[Kind.CIRCLE] = point_rows_nb(np.array([circle]), _no_pixels(1), 0.0, cam, sa, sb)
         if len(marks):
             xy, ok = _pixels_to_ground(cam, marks[:, :2], 0.0)
-            tables[Kind.MARK] = _point_rows(xy[ok], cam, sa, sb, 0.0, marks[ok, :2])
+            tables[Kind.MARK] = point_rows_nb(xy[ok], np.ascontiguousarray(marks[ok, :2]), 0.0, cam, sa, sb)
         rows = np.concatenate(tables) if any(len(t) for t in tables) else _EMPTY
         offsets = np.zeros(N_KINDS + 1, dtype=np.int64)
         offsets[1:] = np.cumsum([len(t) for t in tables])
@@ -179,12 +183,9 @@ class Vision:
 _EMPTY = np.zeros((0, N_COLS))
 
 
-def _new_rows(n: int) -> NDArray[np.float64]:
-    rows = np.full((n, N_COLS), np.nan)
-    rows[:, Col.SUBTYPE] = 0.0
-    rows[:, Col.TRUTH] = -1.0
-    rows[:, Col.GOAL] = -1.0
-    return rows
+def _no_pixels(n: int) -> NDArray[np.float64]:
+    """NaN pixels: the row builders project the ground points."""
+    return np.full((n, 2), np.nan)
 
 
 @nb.njit(cache=True)
@@ -212,71 +213,6 @@ def _ground_points(cam: NDArray[np.float64], points: NDArray[np.float64], max_di
     with np.errstate(invalid="ignore"):
         ok &= np.hypot(ground[:, 0], ground[:, 1]) <= max_distance
     return ground, ok
-
-
-def _set_cov(rows: NDArray[np.float64], cam: NDArray[np.float64], sa: float, sb: float, height: float) -> None:
-    for k in range(len(rows)):
-        rows[k, Col.VAR_XX], rows[k, Col.VAR_XY], rows[k, Col.VAR_YY] = covariance_nb(
-            rows[k, Col.X], rows[k, Col.Y], cam[9], cam[10], height, sa, sb
-        )
-    rows[:, Col.SIGMA_ALPHA] = sa
-    rows[:, Col.SIGMA_BETA] = sb
-
-
-def _point_rows(
-    xy: NDArray[np.float64],
-    cam: NDArray[np.float64],
-    sa: float,
-    sb: float,
-    z: float,
-    uv: NDArray[np.float64] | None = None,
-) -> NDArray[np.float64]:
-    rows = _new_rows(len(xy))
-    rows[:, Col.X : Col.Y + 1] = xy
-    if uv is None:
-        uv = np.array([pixel_nb(cam, x, y, z)[:2] for x, y in xy]).reshape(-1, 2)
-    rows[:, Col.U : Col.V + 1] = uv
-    _set_cov(rows, cam, sa, sb, cam[11] - z)
-    return rows
-
-
-def _crossing_rows(cross: NDArray[np.float64], cam: NDArray[np.float64], sa: float, sb: float) -> NDArray[np.float64]:
-    rows = _point_rows(cross[:, :2], cam, sa, sb, 0.0)
-    rows[:, Col.SUBTYPE] = cross[:, 2]
-    rows[:, Col.ORIENTATION] = cross[:, 3]
-    return rows
-
-
-def _line_rows(
-    seg_px: NDArray[np.float64], seg_ground: NDArray[np.float64], cam: NDArray[np.float64], sa: float, sb: float
-) -> NDArray[np.float64]:
-    rows = _new_rows(len(seg_ground))
-    if not len(rows):
-        return rows
-    g = seg_ground
-    rows[:, Col.X : Col.Y + 1] = g[:, 0:2]
-    rows[:, Col.X2 : Col.Y2 + 1] = g[:, 2:4]
-    rows[:, Col.U : Col.V + 1] = seg_px[:, 0:2]
-    rows[:, Col.U2 : Col.V2 + 1] = seg_px[:, 2:4]
-    rows[:, Col.ORIENTATION] = np.arctan2(g[:, 3] - g[:, 1], g[:, 2] - g[:, 0]) % np.pi
-    # covariance at the point of the segment nearest the robot
-    near = _nearest_points(g)
-    for k in range(len(rows)):
-        rows[k, Col.VAR_XX], rows[k, Col.VAR_XY], rows[k, Col.VAR_YY] = covariance_nb(
-            near[k, 0], near[k, 1], cam[9], cam[10], cam[11], sa, sb
-        )
-    rows[:, Col.SIGMA_ALPHA] = sa
-    rows[:, Col.SIGMA_BETA] = sb
-    return rows
-
-
-def _nearest_points(g: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The point of each ground segment (S x 4) nearest the robot origin (S x 2)."""
-    a, b = g[:, 0:2], g[:, 2:4]
-    d = b - a
-    L2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-12)
-    t = np.clip(-np.einsum("ij,ij->i", a, d) / L2, 0.0, 1.0)
-    return a + t[:, None] * d
 
 
 @nb.njit(cache=True)
