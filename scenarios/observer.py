@@ -29,6 +29,7 @@ from cognition.gamestate import GameStateId
 from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
 from cognition.representations import BrainOutput, HeadRequest, MotionRequest, RobotPose, SensorFrame, WalkRequest
+from cognition.vision import VisionParams
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs
 from cognition.worldmodel.kalman_ball import KalmanBallParams
 
@@ -52,8 +53,10 @@ class Observer:
         head: str = "sweep",
         loop: tuple[tuple[float, float], ...] = (),
         start: tuple[float, float, float] | None = None,
+        vision: VisionParams | None = None,
     ):
-        """``loop`` corners and ``start`` pose are in the robot's team frame (m, rad)."""
+        """``loop`` corners and ``start`` pose are in the robot's team frame (m, rad); ``vision``
+        configures the stack's vision when the match delivers camera images."""
         self.variant = variant
         self.params = params
         self.ball_params = ball_params
@@ -61,6 +64,7 @@ class Observer:
         self.head = head
         self.loop = loop
         self.start = start
+        self.vision = vision
         self.leg = 0
         self.provider: CognitionBeliefs | None = None
         self.beliefs: Beliefs | None = None
@@ -70,7 +74,7 @@ class Observer:
 
     def reset(self, context: BrainContext) -> None:
         """Build the cognition stack; a known start pose seeds the localization."""
-        self.provider = CognitionBeliefs(context, self.variant, self.params, "sectors", self.ball_params)
+        self.provider = CognitionBeliefs(context, self.variant, self.params, "sectors", self.ball_params, self.vision)
         if self.start is not None:
             self.provider.localizer.on_placement(np.array([self.start], dtype=np.float64))
         self.leg = 0

@@ -51,6 +51,7 @@ class RunOutput:
 def _brain(team: Team, index: int, number: int, variant: Variant, scenario: Scenario, sign: float) -> Brain:
     """The brain of player ``number`` of team ``index`` (home: the variant under study)."""
     rules = scenario.match.referee.rules
+    vision = variant.vision
     if index == 0:
         loc, params, ball = variant.localization, variant.localization_params, variant.ball
     else:
@@ -64,16 +65,20 @@ def _brain(team: Team, index: int, number: int, variant: Variant, scenario: Scen
     if team.brain == "scripted":
         from cognition.behaviors.team_play import ScriptedBrain
 
-        return ScriptedBrain(beliefs="cognition", variant=loc, localization_params=params, ball_params=ball)
+        return ScriptedBrain(
+            beliefs="cognition", variant=loc, localization_params=params, ball_params=ball, vision=vision
+        )
     loop = tuple((sign * x, sign * y) for x, y in team.loop)
     start_team = world_to_team(sign, *start) if start is not None else None
-    return Observer(loc, params, ball, team.drive, team.head, loop, start_team)
+    return Observer(loc, params, ball, team.drive, team.head, loop, start_team, vision)
 
 
 def simulate(scenario: Scenario, variant: str | Variant, seed: int) -> tuple[Trace, Match]:
     """Play one run; returns its trace and the finished match."""
     v = variant if isinstance(variant, Variant) else scenario.variant(variant)
     config = scenario.config(seed)
+    if v.observation is not None:
+        config = dataclasses.replace(config, observation=v.observation)
     teams = (scenario.home, scenario.away)
 
     def brains(team: int, number: int) -> Brain:

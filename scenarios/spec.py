@@ -14,7 +14,9 @@ duration            (required)  simulated seconds of one run, (0, 3600]
 seeds               10          seeds a study runs by default (``--seeds`` overrides), 1..10000
 variants            (required)  a list of localization variants (``mcl``, ``lowvar``, ``amcl``, ``reset``,
                                 ``maturing``, ``odometry``, ``oracle``), or tables ``[variants.NAME]`` with
-                                ``localization``, ``localization_params`` and ``ball`` (Kalman ball params)
+                                ``localization``, ``localization_params``, ``ball`` (Kalman ball params),
+                                ``observation`` (``percepts`` or ``images``: overrides the match's) and
+                                ``vision`` (:class:`~cognition.vision.VisionParams`, for ``images``)
 match               {}          :class:`~teamsim.match.MatchConfig` keys (field, players_per_team, percepts,
                                 referee, ...) except ``seed``, ``events``, ``localization``, ``players``
 home / away         observer    the teams (below); the **home** team runs the variant under study
@@ -71,6 +73,7 @@ from cognition.field import FIELD_PRESETS
 from cognition.gamestate import Penalty
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.params import Range, check_choice, check_number, from_mapping
+from cognition.vision import VisionParams
 from cognition.worldmodel.kalman_ball import KalmanBallParams
 from teamsim.events import ForceFall, ForcePenalty, Kidnap, PlaceBall, ScriptedEvent
 from teamsim.match import MatchConfig
@@ -106,6 +109,10 @@ class Variant:
     localization: str
     localization_params: LocalizationParams = field(default_factory=LocalizationParams)
     ball: KalmanBallParams = field(default_factory=KalmanBallParams)
+    observation: str | None = None
+    """``percepts`` or ``images`` for this variant's runs (``None``: the match's observation)."""
+    vision: VisionParams = field(default_factory=VisionParams)
+    """The home brains' vision (used with ``images``)."""
 
 
 @dataclass(frozen=True)
@@ -369,11 +376,14 @@ def _variants(raw: Any) -> tuple[tuple[Variant, ...], bool]:
     out = []
     for vname, table in raw.items():
         where = f"variants.{vname}"
-        t = _keys(table, where, ("localization", "localization_params", "ball"), ("localization",))
+        keys = ("localization", "localization_params", "ball", "observation", "vision")
+        t = _keys(table, where, keys, ("localization",))
         loc = _choice(t["localization"], f"{where}.localization", VARIANTS)
         lp = LocalizationParams.from_mapping(t.get("localization_params", {}))
         bp = from_mapping(KalmanBallParams, t.get("ball", {}), f"{where}.ball")
-        out.append(Variant(vname, loc, lp, bp))
+        obs = _choice(t["observation"], f"{where}.observation", ("percepts", "images")) if "observation" in t else None
+        vp = from_mapping(VisionParams, t.get("vision", {}), f"{where}.vision")
+        out.append(Variant(vname, loc, lp, bp, obs, vp))
     return tuple(out), True
 
 
