@@ -21,13 +21,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.camera import CameraMatrix
+from cognition.vision.colour import camera_row
 from cognition.vision.projection import horizon_row_nb
 
 
-def field_boundary(classes: NDArray[np.uint8], camera: CameraMatrix | None, min_run: int) -> NDArray[np.int32]:
-    """The first field row of each column of the class image (see the module docstring)."""
+def field_boundary(
+    classes: NDArray[np.uint8], camera: CameraMatrix | NDArray[np.float64] | None, min_run: int
+) -> NDArray[np.int32]:
+    """The first field row of each column of the class image (see the module docstring);
+    ``camera`` is the camera matrix, its row (:meth:`CameraMatrix.as_row`) or ``None``."""
     out = np.empty(classes.shape[1], dtype=np.int32)
-    cam = camera.as_row() if camera is not None else np.full(18, np.nan)
+    cam = camera_row(camera)
     _boundary(classes, cam, max(1, int(min_run)), out)
     return out
 

@@ -142,6 +142,15 @@ _CACHE = 64
 """Lookup tables kept per classifier (one per quantized calibration)."""
 
 
+def camera_row(camera: CameraMatrix | NDArray[np.float64] | None) -> NDArray[np.float64]:
+    """The compact camera row of a camera matrix (a row passes through; ``None``: all NaN)."""
+    if camera is None:
+        return _NO_CAMERA
+    if isinstance(camera, CameraMatrix):
+        return camera.as_row()
+    return camera
+
+
 class ColourClassifier:
     """Classifies RGB images into :class:`Colour` codes, calibrated per image (module docstring)."""
 
@@ -152,10 +161,13 @@ class ColourClassifier:
         """The latest calibration (the defaults until an image had enough carpet)."""
         self._luts: OrderedDict[tuple[int, int, int], NDArray[np.uint8]] = OrderedDict()
 
-    def calibrate(self, rgb: NDArray[np.uint8], camera: CameraMatrix | None) -> Calibration:
-        """Measure the carpet colour below the horizon of ``rgb`` (H x W x 3) and keep it."""
+    def calibrate(self, rgb: NDArray[np.uint8], camera: CameraMatrix | NDArray[np.float64] | None) -> Calibration:
+        """Measure the carpet colour below the horizon of ``rgb`` (H x W x 3) and keep it.
+
+        ``camera`` is the image's camera matrix or its row (:meth:`CameraMatrix.as_row`);
+        ``None`` calibrates on the whole image."""
         width = rgb.shape[1]
-        cam = camera.as_row() if camera is not None else _NO_CAMERA
+        cam = camera_row(camera)
         step = max(2, round(_CALIBRATION_STEP * width / 320))
         lo, hi = self.params.green_hue
         h, s, v, n = _carpet_median(rgb, cam, step, lo, hi, 60.0)
@@ -194,7 +206,10 @@ class ColourClassifier:
         )  # fmt: skip
 
     def classify(
-        self, rgb: NDArray[np.uint8], camera: CameraMatrix | None = None, out: NDArray[np.uint8] | None = None
+        self,
+        rgb: NDArray[np.uint8],
+        camera: CameraMatrix | NDArray[np.float64] | None = None,
+        out: NDArray[np.uint8] | None = None,
     ) -> NDArray[np.uint8]:
         """Calibrate on ``rgb`` (H x W x 3 uint8) and return its class image (H x W uint8)."""
         self.calibrate(rgb, camera)
@@ -272,30 +287,41 @@ def _classify(rgb: NDArray[np.uint8], table: NDArray[np.uint8], out: NDArray[np.
 
 
 @nb.njit(cache=True)
+def _median_of_histogram(hist: NDArray[np.int64], n: int) -> float:  # pragma: no cover - compiled
+    """The median bin of a histogram holding ``n`` counts (the lower median for even ``n``)."""
+    half = (n + 1) // 2
+    total = 0
+    for b in range(hist.shape[0]):
+        total += hist[b]
+        if total >= half:
+            return float(b)
+    return float(hist.shape[0] - 1)
+
+
+@nb.njit(cache=True)
 def _carpet_median(
     rgb: NDArray[np.uint8], cam: NDArray[np.float64], step: int, lo: float, hi: float, min_sat: float
 ) -> tuple[float, float, float, int]:  # pragma: no cover - compiled
-    """Medians (hue, saturation, value) and count of the grid pixels below the horizon whose hue
-    is in [lo, hi] with saturation >= min_sat."""
+    """Medians (hue, saturation, value; whole units) and count of the grid pixels below the
+    horizon whose hue is in [lo, hi] with saturation >= min_sat (histograms, no sorting)."""
     height, width = rgb.shape[0], rgb.shape[1]
     top = 0
     if math.isfinite(cam[0]):
         hz = max(horizon_row_nb(cam, 0.0), horizon_row_nb(cam, float(width)))
         if math.isfinite(hz):
             top = int(min(max(hz + 2.0, 0.0), height - 1.0))
-    n_max = ((height - top) // step + 1) * (width // step + 1)
-    hs = np.empty(n_max)
-    ss = np.empty(n_max)
-    vs = np.empty(n_max)
+    hh = np.zeros(181, dtype=np.int64)
+    hs = np.zeros(256, dtype=np.int64)
+    hv = np.zeros(256, dtype=np.int64)
     n = 0
     for j in range(top + step // 2, height, step):
         for i in range(step // 2, width, step):
             h, s, v = _hsv(float(rgb[j, i, 0]), float(rgb[j, i, 1]), float(rgb[j, i, 2]))
             if lo <= h <= hi and s >= min_sat and v >= 12.0:
-                hs[n] = h
-                ss[n] = s
-                vs[n] = v
+                hh[int(h)] += 1
+                hs[int(s)] += 1
+                hv[int(v)] += 1
                 n += 1
     if n == 0:
         return 0.0, 0.0, 0.0, 0
-    return np.median(hs[:n]), np.median(ss[:n]), np.median(vs[:n]), n
+    return _median_of_histogram(hh, n), _median_of_histogram(hs, n), _median_of_histogram(hv, n), n

@@ -85,3 +85,22 @@ def line_rows_nb(
             x1 + t * dx, y1 + t * dy, cam[9], cam[10], cam[11], sa, sb
         )
     return out
+
+
+@nb.njit(cache=True)
+def crossing_rows_nb(
+    cross: NDArray[np.float64], cam: NDArray[np.float64], sa: float, sb: float
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """Rows of crossing percepts from the crossing detector's C x >=4 table (x, y, kind,
+    orientation; robot frame, m and rad): pixels projected from the ground points."""
+    n = cross.shape[0]
+    xy = np.empty((n, 2))
+    uv = np.full((n, 2), math.nan)
+    for k in range(n):
+        xy[k, 0] = cross[k, 0]
+        xy[k, 1] = cross[k, 1]
+    out = point_rows_nb(xy, uv, 0.0, cam, sa, sb)
+    for k in range(n):
+        out[k, _SUB] = cross[k, 2]
+        out[k, _ORIENT] = cross[k, 3]
+    return out

@@ -1,0 +1,115 @@
+"""Line segments on the ground, and whether each end is a real line end (DNT 3.6.2 and 3.7).
+
+Both line methods end here: a segment found in the image (pixels) is extended along its
+direction as long as the white continues (scanlines and Hough points stop up to a scan step
+short of the true end), projected to the ground with the camera matrix (robot frame, metres),
+and dropped when it is too short or too far away on the ground. Each end is then classified
+for the crossing detector (:mod:`.crossings`, DNT 3.7's confidence made strict): an end is
+*real* when carpet follows it, and *open* when the image edge, the field boundary or three
+pixels of something other than white or green (a robot, the ball) come first, because then
+the line may go on where the camera cannot see it.
+
+Pixels: ``u`` right, ``v`` down; class codes of :class:`~cognition.vision.colour.Colour`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from cognition.vision.projection import ground_nb
+
+GREEN, WHITE = 1, 2
+
+
+@nb.njit(cache=True)
+def follow_white_nb(
+    classes: NDArray[np.uint8], u: float, v: float, du: float, dv: float, steps: int
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """The last point along (du, dv) from (u, v), at most ``steps`` px, that is still white (or
+    has a white neighbour across the direction)."""
+    height, width = classes.shape
+    last_u, last_v = u, v
+    for q in range(1, steps + 1):
+        cu, cv = u + du * q, v + dv * q
+        i, j = int(cu), int(cv)
+        if i < 0 or j < 0 or i >= width or j >= height:
+            break
+        ni, nj = int(cu - dv), int(cv + du)
+        mi, mj = int(cu + dv), int(cv - du)
+        white = classes[j, i] == WHITE
+        if not white and 0 <= ni < width and 0 <= nj < height:
+            white = classes[nj, ni] == WHITE
+        if not white and 0 <= mi < width and 0 <= mj < height:
+            white = classes[mj, mi] == WHITE
+        if not white:
+            break
+        last_u, last_v = cu, cv
+    return last_u, last_v
+
+
+@nb.njit(cache=True)
+def _is_open(
+    classes: NDArray[np.uint8], boundary: NDArray[np.int32], eu: float, ev: float, du: float, dv: float, probe: int
+) -> bool:  # pragma: no cover - compiled
+    """Whether the line end at (eu, ev), looking on along (du, dv), is open (module docstring)."""
+    height, width = classes.shape
+    other = 0
+    for q in range(1, probe + 1):
+        i = int(eu + du * q)
+        j = int(ev + dv * q)
+        if i < 0 or j < 0 or i >= width or j >= height or j < boundary[i] + 2:
+            return True
+        c = classes[j, i]
+        if c == GREEN:
+            return False
+        other = 0 if c == WHITE else other + 1
+        if other >= 3:  # three pixels of something else (blended edges give one or two)
+            return True
+    return False
+
+
+@nb.njit(cache=True)
+def segments_on_ground_nb(
+    cam: NDArray[np.float64],
+    seg: NDArray[np.float64],
+    classes: NDArray[np.uint8],
+    boundary: NDArray[np.int32],
+    min_length: float,
+    max_distance: float,
+    probe: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:  # pragma: no cover - compiled
+    """The kept segments: image end points (S x 4, extended along the white), ground end points
+    (S x 4, robot frame, m) and open ends (S x 2); ``seg`` is S x >=4 pixels (u1, v1, u2, v2)."""
+    n = seg.shape[0]
+    px = np.empty((n, 4))
+    ground = np.empty((n, 4))
+    open_ends = np.zeros((n, 2), dtype=np.bool_)
+    m = 0
+    for k in range(n):
+        u1, v1, u2, v2 = seg[k, 0], seg[k, 1], seg[k, 2], seg[k, 3]
+        length = math.hypot(u2 - u1, v2 - v1)
+        if length > 1e-9:
+            du, dv = (u2 - u1) / length, (v2 - v1) / length
+            u1, v1 = follow_white_nb(classes, u1, v1, -du, -dv, 2 * probe)
+            u2, v2 = follow_white_nb(classes, u2, v2, du, dv, 2 * probe)
+        x1, y1, ok1 = ground_nb(cam, u1, v1, 0.0)
+        x2, y2, ok2 = ground_nb(cam, u2, v2, 0.0)
+        if not (ok1 and ok2 and math.hypot(x2 - x1, y2 - y1) >= min_length):
+            continue
+        if math.hypot(x1, y1) > max_distance or math.hypot(x2, y2) > max_distance:
+            continue
+        px[m, 0], px[m, 1], px[m, 2], px[m, 3] = u1, v1, u2, v2
+        ground[m, 0], ground[m, 1], ground[m, 2], ground[m, 3] = x1, y1, x2, y2
+        length = math.hypot(u2 - u1, v2 - v1)
+        if length < 1e-9:
+            open_ends[m, 0] = open_ends[m, 1] = True
+        else:
+            du, dv = (u2 - u1) / length, (v2 - v1) / length
+            open_ends[m, 0] = _is_open(classes, boundary, u1, v1, -du, -dv, probe)
+            open_ends[m, 1] = _is_open(classes, boundary, u2, v2, du, dv, probe)
+        m += 1
+    return px[:m], ground[:m], open_ends[:m]
