@@ -104,6 +104,8 @@ def find_circle_nb(
     gw = min(int((x1 - x0) / cell) + 1, 400)
     gh = min(int((y1 - y0) / cell) + 1, 400)
     acc = np.zeros((gh, gw), dtype=np.int32)
+    voted = np.empty(n * directions, dtype=np.int64)
+    n_voted = 0
     cs = np.cos(2.0 * math.pi * np.arange(directions) / directions) * radius
     sn = np.sin(2.0 * math.pi * np.arange(directions) / directions) * radius
     for k in range(n):
@@ -111,19 +113,23 @@ def find_circle_nb(
             gx = int((pts[k, 0] + cs[d] - x0) / cell)
             gy = int((pts[k, 1] + sn[d] - y0) / cell)
             if 0 <= gx < gw and 0 <= gy < gh:
+                if acc[gy, gx] == 0:
+                    voted[n_voted] = gy * gw + gx
+                    n_voted += 1
                 acc[gy, gx] += 1
+    # the best cell, its votes summed with its 8 neighbours; only cells with votes can win
     best = 0
     bx, by = -1, -1
-    for gy in range(1, gh - 1):
-        for gx in range(1, gw - 1):
-            if acc[gy, gx] == 0:
-                continue
-            s = 0
-            for a in range(-1, 2):
-                for b in range(-1, 2):
-                    s += acc[gy + a, gx + b]
-            if s > best:
-                best, bx, by = s, gx, gy
+    for q in range(n_voted):
+        gy, gx = voted[q] // gw, voted[q] % gw
+        if gy < 1 or gx < 1 or gy >= gh - 1 or gx >= gw - 1:
+            continue
+        s = 0
+        for a in range(-1, 2):
+            for b in range(-1, 2):
+                s += acc[gy + a, gx + b]
+        if s > best or (s == best and voted[q] < by * gw + bx):
+            best, bx, by = s, gx, gy
     if bx < 0:
         return math.nan, math.nan, 0, 0.0
     cx, cy, n_in = _refine(pts, x0 + (bx + 0.5) * cell, y0 + (by + 0.5) * cell, radius, 2.0 * inlier)
