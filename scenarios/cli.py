@@ -11,9 +11,11 @@ command                                  what it does
 ``teamsim compare --scenario ... ``      the cross product of scenarios, variants and paired seeds on ``--workers``
                                          processes or ``--backend ray``; resumable; writes ``report.md``
 ``teamsim compare --report-only DIR``    the report again, from the stored rows alone
+``teamsim vision-eval``                  precision, recall and errors of the vision per feature type on rendered
+                                         frames (:mod:`scenarios.vision_eval`; no extra needed)
 =======================================  ==========================================================================
 
-Both need the studies extra (``pip install -e '.[studies]'``: pandas, pyarrow, matplotlib, Ray).
+``scenario`` and ``compare`` need the studies extra (``pip install -e '.[studies]'``: pandas, pyarrow, matplotlib, Ray).
 Bad input (an unknown scenario, variant or key in a scenario file) ends with exit code 2 and one
 line naming the file, the key and what is allowed.
 """
@@ -56,7 +58,7 @@ def _workers(text: str) -> int:
 
 
 def register(sub: Any) -> None:
-    """Add ``scenario`` and ``compare`` to the ``teamsim`` subcommands (the entry point)."""
+    """Add ``scenario``, ``compare`` and ``vision-eval`` to the ``teamsim`` subcommands (the entry point)."""
     p = sub.add_parser("scenario", help="list or run scenarios (kidnapping, penalties, ...; needs the studies extra)")
     actions = p.add_subparsers(dest="action", required=True, metavar="ACTION")
     actions.add_parser("list", help="the built-in scenarios").set_defaults(handler=run_list)
@@ -88,6 +90,9 @@ def register(sub: Any) -> None:
     c.add_argument("--report-only", type=Path, default=None, metavar="DIR", help="rewrite DIR/report.md from its rows")
     c.add_argument("--no-progress", action="store_true", help="no progress bar")
     c.set_defaults(handler=run_compare)
+    from scenarios.vision_eval import add_parser  # the module needs no studies extra
+
+    add_parser(sub)
 
 
 def _needs_extra() -> None:

@@ -10,6 +10,8 @@ belief_overlay         one robot's localization belief (particles, estimate) in 
                        frame, for the top-down view
 write_snapshots        runs a match to given times and writes robots' images as PNG
                        (raw and with ground-truth annotations)
+gallery_scenes         the fixed scenes of the README gallery (file stem, field, colours,
+                       image preset, scene, robot index)
 write_gallery          renders the fixed scenes of the README gallery (``docs/gallery``)
 =====================  ===================================================================
 
@@ -169,7 +171,7 @@ def write_snapshots(
     return written
 
 
-def _gallery_scenes() -> list[tuple[str, str, str, str, Scene, int]]:
+def gallery_scenes() -> list[tuple[str, str, str, str, Scene, int]]:
     """(file stem, field, scheme, image preset, scene, robot index) of the gallery."""
     out = []
     robots = [
@@ -201,7 +203,7 @@ def _gallery_scenes() -> list[tuple[str, str, str, str, Scene, int]]:
 def write_gallery(out_dir: Path, size: tuple[int, int] = (320, 240)) -> list[Path]:
     """Render the gallery scenes (raw and annotated PNGs) into ``out_dir``; returns the paths."""
     written: list[Path] = []
-    for stem, field_name, scheme, preset, scene, r in _gallery_scenes():
+    for stem, field_name, scheme, preset, scene, r in gallery_scenes():
         field = Field(FIELD_PRESETS[field_name], field_name)
         rig = CameraRig().with_resolution(*size)
         ren = ImageRenderer(field, scheme, rig, ImageParams.preset(preset), np.random.default_rng(1))
