@@ -24,6 +24,11 @@ Image frame: ``u`` (column) to the right, ``v`` (row) down, pixel ``(i, j)`` cov
 moves toward larger ``u``), positive pitch looks further down (content moves toward smaller
 ``v``). Parameters in :class:`~teamsim.image_params.ImageParams`.
 
+The uneven light of the hall (``sun_stripes``, ``shadows``, ``light_falloff``) is an image
+effect of the same parameters, but not applied here: it is fixed in the world, so the
+renderer draws it with the scene (:func:`teamsim.image_venue.light_map`,
+:class:`teamsim.images.ImageRenderer`).
+
 Random numbers come only from the ``numpy.random.Generator`` handed in; the sensor noise
 reads a pool of pre-drawn standard normals at a random start per image, and the pool is
 redrawn a slice per image, about ``POOL_REUSE`` uses per value.
@@ -271,7 +276,8 @@ class ImageEffects:
 
     @property
     def active(self) -> bool:
-        """True when ``apply`` changes images (``params.has_effects``)."""
+        """True when the parameters have any effect (``params.has_effects``). All but the hall's
+        uneven light, which the renderer draws, are applied by ``apply``."""
         return self.params.has_effects
 
     def apply(self, image: np.ndarray, fx: float, fy: float, yaw_rate: float, pitch_rate: float, walking: bool) -> None:

@@ -7,7 +7,9 @@ the column. The background is drawn row by row from that fact:
 
 * **floor**: the columns whose ray meets the floor inside the hall form one interval; the
   carpet (field plus border strip) is a sub-interval, anti-aliased at its ends; the smooth
-  brightness texture is sampled every :data:`STRIDE` pixels and interpolated;
+  brightness texture is sampled every :data:`STRIDE` pixels (the nearest texel, or
+  bilinearly when it holds the hall's uneven light, ``GEO.LIT``) and interpolated; it
+  multiplies the carpet's and the paint's colour, tinted by ``GEO.TINT``;
 * **paint**: every straight line, penalty mark and the centre circle is intersected
   analytically with the row's ground line, giving exact column intervals whose coverage is
   accumulated over :data:`SUBROWS` sub-rows (anti-aliasing in both directions); lines keep
@@ -28,7 +30,8 @@ separate scalar loops, as vectorized gathers are slow.
 Objects (robots, ball, goal posts, crossbars, nets, corner poles) are then drawn far to
 near (:func:`_objects`) by :mod:`teamsim.image_objects`, which ray casts only the pixels in
 each solid's exact per-row column spans; objects reaching behind the camera's near plane
-(:data:`NEAR`) are clipped exactly.
+(:data:`NEAR`) are clipped exactly. Each object is lit by the light map at its foot point
+(:func:`_light_at`): its colours are scaled (and tinted) by that gain.
 
 All geometry is in the **world frame** (m, rad); pixel (i, j) has its centre at
 (u, v) = (i + 0.5, j + 0.5). The camera pose comes from :func:`cognition.camera.camera_pose_nb`,
@@ -114,9 +117,10 @@ def _ground_rows(px, py, k, m, cam, fx, fy, cx, cy, width, height, q):  # pragma
 
 @nb.njit(cache=True, error_model="numpy", fastmath=True)
 def render_nb(
-    obs, r, occ, ball, cams, geo, col, strips, circles, floor, walls, posts, poles, ico, img
+    obs, r, occ, ball, cams, geo, col, strips, circles, floor, light, walls, posts, poles, ico, img
 ):  # pragma: no cover - compiled
-    """Render robot ``r``'s camera image into ``img`` (H x W x 3 uint8, RGB)."""
+    """Render robot ``r``'s camera image into ``img`` (H x W x 3 uint8, RGB). ``light``: the
+    light map (:func:`teamsim.image_venue.light_map`, 1 x 1 when the hall is lit evenly)."""
     rot = np.empty((3, 3))
     pos = np.empty(3)
     m = np.empty((3, 3))
@@ -146,15 +150,43 @@ def render_nb(
         du[k] = -m[k, 1] / fx
         dv[k] = -m[k, 2] / fy
     _background(cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, strips, circles, floor, walls, img)
-    _objects(obs, r, occ, ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, posts, poles, ico, img)
+    _objects(obs, r, occ, ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, light, posts, poles, ico, img)
+
+
+@nb.njit(cache=True, error_model="numpy", fastmath=True)
+def _light_at(light, x, y, geo):  # pragma: no cover - compiled
+    """The light map's gain at the world point (x, y) (m), bilinear between texel centres."""
+    th, tw = light.shape
+    if tw < 2 or th < 2:
+        return float(light[0, 0])
+    texel = geo[GEO.FLOOR_TEXEL]
+    tx = min(max((x + geo[GEO.HALL_X]) / texel - 0.5, 0.0), tw - 1.0001)
+    ty = min(max((y + geo[GEO.HALL_Y]) / texel - 0.5, 0.0), th - 1.0001)
+    ix, iy = int(tx), int(ty)
+    a, b = tx - ix, ty - iy
+    t0 = light[iy, ix] + a * (light[iy, ix + 1] - light[iy, ix])
+    t1 = light[iy + 1, ix] + a * (light[iy + 1, ix + 1] - light[iy + 1, ix])
+    return float(t0 + b * (t1 - t0))
+
+
+@nb.njit(cache=True, error_model="numpy", fastmath=True)
+def _lit_colours(col, gain, tint, out):  # pragma: no cover - compiled
+    """The colour table ``col`` lit by ``gain``, tinted (see ``GEO.TINT``), into ``out``."""
+    d = gain - 1.0
+    for c in range(col.shape[0]):
+        out[c, 0] = col[c, 0] * (1.0 + (1.0 + tint) * d)
+        out[c, 1] = col[c, 1] * gain
+        out[c, 2] = col[c, 2] * (1.0 + (1.0 - tint) * d)
+    return out
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=True)
 def _objects(
-    obs, r, occ, ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, posts, poles, ico, img
+    obs, r, occ, ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, light, posts, poles, ico, img
 ):  # pragma: no cover
     """Robots (except ``r``), ball, goals and corner poles into ``img``, far to near (by the
-    distance from the camera to the nearest point of the object's footprint)."""
+    distance from the camera to the nearest point of the object's footprint), each lit by
+    the light map at its foot point (a goal: the middle of its goal line)."""
     n_rob = occ.shape[0]
     n = n_rob + 1 + 2 + poles.shape[0]
     kind = np.empty(n, dtype=np.int64)  # 0 robot, 1 ball, 2 goal, 3 pole
@@ -183,16 +215,33 @@ def _objects(
         key[cnt] = math.hypot(poles[k, 0] - cam[0], poles[k, 1] - cam[1]) - geo[GEO.POLE_R]
         cnt += 1
     scr = np.zeros((5, W + VEC), dtype=np.float32)
+    lit = light.size > 1
+    tint = geo[GEO.TINT]
+    lcol = np.empty_like(col)
     for o in np.argsort(-key[:cnt]):
         kd, idx = kind[o], index[o]
+        oc = col
+        if lit:  # the light at the object's foot point
+            if kd == 0:
+                px, py = occ[idx, OC.X], occ[idx, OC.Y]
+            elif kd == 1:
+                px, py = ball[0], ball[1]
+            elif kd == 2:
+                px, py = (
+                    0.5 * (posts[2 * idx, 0] + posts[2 * idx + 1, 0]),
+                    0.5 * (posts[2 * idx, 1] + posts[2 * idx + 1, 1]),
+                )
+            else:
+                px, py = poles[idx, 0], poles[idx, 1]
+            oc = _lit_colours(col, _light_at(light, px, py, geo), tint, lcol)
         if kd == 0:
-            draw_robot(obs, occ, idx, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, col, img, scr)
+            draw_robot(obs, occ, idx, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, oc, img, scr)
         elif kd == 1:
-            draw_ball(ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, ico, img, scr)
+            draw_ball(ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, oc, ico, img, scr)
         elif kd == 2:
-            draw_goal(idx, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, posts, img, scr)
+            draw_goal(idx, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, oc, posts, img, scr)
         else:
-            draw_pole(idx, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, poles, img, scr)
+            draw_pole(idx, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, oc, poles, img, scr)
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=True)
@@ -270,6 +319,10 @@ def _background(
     flat = img.reshape(H, W * 3)
     texel = geo[GEO.FLOOR_TEXEL]
     grass = geo[GEO.GRASS] > 0.5
+    lit = geo[GEO.LIT] > 0.5 and floor.shape[0] > 1 and floor.shape[1] > 1
+    tint = geo[GEO.TINT]
+    fa = np.empty(nblk + 1, dtype=np.float32)
+    fb = np.empty(nblk + 1, dtype=np.float32)
     # pass 1: every row's floor columns [i0, i1], carpet [ca, cb] and texture samples (all the
     # texture reads at once: neighbouring rows read neighbouring texels, and the wall
     # texture of pass 2 does not evict them in between)
@@ -290,7 +343,12 @@ def _background(
         if span[j, 1] >= span[j, 0]:
             carpet[j, 0], carpet[j, 1] = _slab(g0x, gux, -kx, kx, -1e9, 1e9)
             carpet[j, 0], carpet[j, 1] = _slab(g0y, guy, -ky, ky, carpet[j, 0], carpet[j, 1])
-            if grass:
+            if lit:
+                _floor_samples_lin(
+                    samps[j], packed, fa, fb, fflat, floor.shape[1], floor.shape[0], (g0x + hx) / texel,
+                    (g0y + hy) / texel, gux / texel, guy / texel,
+                )  # fmt: skip
+            elif grass:
                 _floor_samples(
                     samps[j], packed, fflat, floor.shape[1], floor.shape[0], (g0x + hx) / texel, (g0y + hy) / texel,
                     gux / texel, guy / texel,
@@ -302,7 +360,7 @@ def _background(
         i0, i1 = span[j, 0], span[j, 1]
         if i1 >= i0:
             plo, phi = _paint_row(cov, j, rows, edges, strips, circles, cam, d0, du, dv, sub, iv)
-            _floor_row(packed, cov, bright, samps[j], carpet[j, 0], carpet[j, 1], col, grass, plo, phi)
+            _floor_row(packed, cov, bright, samps[j], carpet[j, 0], carpet[j, 1], col, grass, tint, plo, phi)
             if i0 > 0:
                 _hall(packed[:i0], 0, cam, rx, ry, rz, du, geo, wflat, walls.shape[1], walls.shape[0], ceil)
             if i1 < W - 1:
@@ -442,12 +500,41 @@ def _floor_samples(samp, idx, tex, tw, th, tx0, ty0, tdx, tdy):  # pragma: no co
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=True)
-def _floor_row(out, cov, bright, samp, ca, cb, col, grass, plo, phi):  # pragma: no cover - compiled
+def _floor_samples_lin(samp, idx, fa, fb, tex, tw, th, tx0, ty0, tdx, tdy):  # pragma: no cover - compiled
+    """As :func:`_floor_samples`, but bilinear between the four nearest texel centres (the
+    texture at least 2 x 2); ``fa``, ``fb`` (float32, blocks + 1) are scratch for the weights.
+    The first loop (float32, vectorizes) finds the texels and weights, the second gathers."""
+    f = np.float32
+    xm, ym, zero = f(tw - 1.0001), f(th - 1.0001), f(0.0)
+    x0, y0 = f(tx0 + 0.5 * tdx - 0.5), f(ty0 + 0.5 * tdy - 0.5)  # texel centres at integers
+    dx, dy = f(STRIDE * tdx), f(STRIDE * tdy)
+    tw32 = np.int32(tw)
+    n = samp.shape[0]
+    for k in range(n):
+        x = min(max(x0 + f(k) * dx, zero), xm)
+        y = min(max(y0 + f(k) * dy, zero), ym)
+        ix, iy = np.int32(x), np.int32(y)
+        idx[k] = np.uint32(iy * tw32 + ix)
+        fa[k] = x - f(ix)
+        fb[k] = y - f(iy)
+    for k in range(n):
+        i = idx[k]
+        t00, t10, t01, t11 = tex[i], tex[i + 1], tex[i + tw32], tex[i + tw32 + 1]
+        a = fa[k]
+        t0 = t00 + a * (t10 - t00)
+        t1 = t01 + a * (t11 - t01)
+        samp[k] = t0 + fb[k] * (t1 - t0)
+
+
+@nb.njit(cache=True, error_model="numpy", fastmath=True)
+def _floor_row(out, cov, bright, samp, ca, cb, col, grass, tint, plo, phi):  # pragma: no cover - compiled
     """Floor colours of a whole row as packed pixels into ``out`` (W, uint32); clears ``cov``.
 
     The carpet covers columns [ca, cb]; ``cov`` (W) holds the paint coverage, zero outside
     columns [plo, phi); ``samp`` the brightness every STRIDE columns (:func:`_floor_samples`),
     interpolated linearly into ``bright`` (W rounded up to whole STRIDE blocks) if ``grass``.
+    A brightness l scales green by l, red by 1 + (1 + ``tint``)(l - 1) and blue by
+    1 + (1 - ``tint``)(l - 1) (exactly l in every channel for ``tint`` 0).
     Loops run over whole rows (or the painted run) so that they vectorize. The common row,
     all carpet, is shaded without the carpet's edge, then its paint is mixed in.
     """
@@ -462,21 +549,24 @@ def _floor_row(out, cov, bright, samp, ca, cb, col, grass, plo, phi):  # pragma:
     top = np.float32(255.0)
     gr, gg, gb = np.float32(col[C.GREEN, 0]), np.float32(col[C.GREEN, 1]), np.float32(col[C.GREEN, 2])
     wr, wg, wb = np.float32(col[C.WHITE, 0]), np.float32(col[C.WHITE, 1]), np.float32(col[C.WHITE, 2])
+    t32 = np.float32(tint)
     if ca <= -0.5 and cb >= w + 0.5:  # all carpet: k = 1 in every column
         for i in range(w):
             br = bright[i]
-            r8 = np.int32(min(gr * br + h, top))
+            dt = t32 * (br - f1)
+            r8 = np.int32(min(gr * (br + dt) + h, top))
             g8 = np.int32(min(gg * br + h, top))
-            b8 = np.int32(min(gb * br + h, top))
+            b8 = np.int32(min(gb * (br - dt) + h, top))
             out[i] = r8 | (g8 << 8) | (b8 << 16)
         if phi > plo:
             seg, o, bs = cov[plo:phi], out[plo:phi], bright[plo:phi]
             for i in range(phi - plo):
                 p = min(seg[i], f1)
                 br = bs[i]
-                r8 = np.int32(min((gr + p * (wr - gr)) * br + h, top))
+                dt = t32 * (br - f1)
+                r8 = np.int32(min((gr + p * (wr - gr)) * (br + dt) + h, top))
                 g8 = np.int32(min((gg + p * (wg - gg)) * br + h, top))
-                b8 = np.int32(min((gb + p * (wb - gb)) * br + h, top))
+                b8 = np.int32(min((gb + p * (wb - gb)) * (br - dt) + h, top))
                 o[i] = r8 | (g8 << 8) | (b8 << 16)
                 seg[i] = f0
         return
@@ -487,15 +577,16 @@ def _floor_row(out, cov, bright, samp, ca, cb, col, grass, plo, phi):  # pragma:
         k = min(max(min(u - ca32, cb32 - u) + h, f0), f1)
         p = min(cov[i], f1)
         br = bright[i]
+        dt = t32 * (br - f1)
         cr = fr + k * (gr - fr)
         cg = fg + k * (gg - fg)
         cb_ = fb + k * (gb - fb)
         cr += p * (wr - cr)
         cg += p * (wg - cg)
         cb_ += p * (wb - cb_)
-        r8 = np.int32(min(cr * br + h, top))
+        r8 = np.int32(min(cr * (br + dt) + h, top))
         g8 = np.int32(min(cg * br + h, top))
-        b8 = np.int32(min(cb_ * br + h, top))
+        b8 = np.int32(min(cb_ * (br - dt) + h, top))
         out[i] = r8 | (g8 << 8) | (b8 << 16)
         cov[i] = f0
 

@@ -11,7 +11,12 @@ compiled kernel in :mod:`teamsim.image_kernel` as packed arrays:
 * ``circles`` (N x 4): the centre circle as an annulus: centre, radius of the line centre,
   half width (m).
 * ``floor``: a smooth brightness texture (factor around 1) over the hall floor, texel
-  :data:`FLOOR_TEXEL`, origin at the hall corner (-x, -y).
+  :data:`FLOOR_TEXEL`, origin at the hall corner (-x, -y); with uneven illumination
+  multiplied by the light map.
+* ``light``: the illumination of the hall floor (:func:`light_map`, a gain around 1 on the
+  grid of ``floor``): sun stripes from the windows, soft shadows, the hall light falling off
+  toward the corners. It is fixed in the world frame and lights the floor, the paint and
+  the objects standing on it (each by the light at its foot point).
 * ``walls``: the hall's walls unrolled into one RGB texture (packed ``0x00BBGGRR``), texel
   :data:`WALL_TEXEL`: the column is the distance along the perimeter, counter-clockwise
   from the corner (-x, -y) (first the wall at -y, then +x, +y, -x); the row is the height
@@ -34,6 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.field import ColourScheme, Field
+from teamsim.image_params import ImageParams
 
 HALL_MARGIN = 1.5
 """Floor between the carpet's edge and the walls (m)."""
@@ -105,6 +111,11 @@ class GEO(IntEnum):
     """1 if the floor texture is used, 0 for a flat carpet."""
     MODERN_BALL = 18
     """1 for a ball with black patches, 0 for a single colour."""
+    LIT = 19
+    """1 if the floor texture holds the illumination (sampled bilinearly), 0 if not (nearest texel)."""
+    TINT = 20
+    """Colour of the uneven light (``ImageParams.light_tint``): a gain l gives red 1 + (1 + t)(l - 1),
+    green l, blue 1 + (1 - t)(l - 1)."""
 
 
 N_GEO = len(GEO)
@@ -184,6 +195,89 @@ def floor_texture(field: Field, amplitude: float, seed: int) -> NDArray[np.float
     tex += 0.6 * np.sign(np.sin(np.pi * xs / 1.0))[None, :].astype(np.float32)
     tex /= max(float(np.abs(tex).max()), 1e-6)
     return (1.0 + amplitude * tex).astype(np.float32)
+
+
+SHADOW_SOFTNESS = 4.0
+"""Shadows are this many times as soft (blur sigma) as the sun stripes' edges."""
+MIN_LIGHT = 0.05
+"""Lowest gain of the light map (the far hall corners with a strong falloff)."""
+
+
+def light_map(field: Field, params: ImageParams) -> NDArray[np.float32]:
+    """The hall floor's illumination: a gain per texel (1: the nominal light), on the grid of
+    :func:`floor_texture` (texels of :func:`floor_texel` m, origin at the hall corner (-x, -y),
+    row = y, column = x). A 1 x 1 map of ones when ``params`` has no illumination.
+
+    Three parts, multiplied (then at least :data:`MIN_LIGHT`):
+
+    * **sun stripes**: parallel bands along ``sun_direction``, as low sun through a row of
+      windows throws them; widths about ``sun_stripe_width`` (0.6 to 1.4 times), spaced about
+      2.2 to 3.2 widths apart, each of a random length (half the hall to all of it) and
+      strength (0.75 to 1 of ``sun_stripes``); edges blurred with sigma ``light_softness``;
+    * **soft shadows**: about one per 10 m^2 of carpet, ellipses 0.3 to 1.2 m by 0.3 to 3 m
+      centred on the carpet (roof beams, stands, people), each 0.6 to 1 of ``shadows`` deep,
+      blurred with sigma :data:`SHADOW_SOFTNESS` ``light_softness``;
+    * **falloff**: the hall light is brightest over the centre, the gain
+      ``1 - light_falloff (a^2 + b^2 + a^2 b^2) / 3`` with a, b the position as fractions of
+      the carpet's half length and half width: ``1 - light_falloff`` at the carpet's corners,
+      a third of the loss in the middle of its edges.
+
+    The layout comes from ``venue_seed`` alone (the same in every preset); the strengths
+    scale it.
+    """
+    if not params.has_illumination:
+        return np.ones((1, 1), dtype=np.float32)
+    hx, hy = hall_size(field)
+    kx, ky = field.half_length + field.dims.border_strip, field.half_width + field.dims.border_strip
+    texel = floor_texel(field)
+    w, h = int(np.ceil(2 * hx / texel)) + 2, int(np.ceil(2 * hy / texel)) + 2
+    xs = ((np.arange(w) + 0.5) * texel - hx)[None, :]
+    ys = ((np.arange(h) + 0.5) * texel - hy)[:, None]
+    rng = np.random.default_rng([params.venue_seed, 3])
+    gain = np.ones((h, w), dtype=np.float32)
+
+    def blur(a: NDArray[np.float32], sigma: float) -> NDArray[np.float32]:
+        s = sigma / texel
+        return a if s < 0.05 else cv2.GaussianBlur(a, (0, 0), sigmaX=s, sigmaY=s, borderType=cv2.BORDER_REPLICATE)
+
+    shift = 4  # fractional bits of the drawing coordinates
+
+    def at(x: float, y: float) -> tuple[int, int]:  # a world point (m) as drawing coordinates (texel centres)
+        return round(((x + hx) / texel - 0.5) * (1 << shift)), round(((y + hy) / texel - 0.5) * (1 << shift))
+
+    # sun stripes: bands at coordinate q across them (along n), from p0 to p0 + length along e
+    e = np.array([np.cos(params.sun_direction), np.sin(params.sun_direction)])
+    n = np.array([-e[1], e[0]])
+    reach = abs(hx * e[0]) + abs(hy * e[1]), abs(hx * e[1]) + abs(hy * e[0])  # the hall's half extents along e, n
+    sun = np.zeros((h, w), dtype=np.float32)
+    width = params.sun_stripe_width
+    q = -reach[1] + float(rng.uniform(0.0, 3.0)) * width
+    while q < reach[1] + width:  # bands do not overlap: the next starts at least 1.5 widths on
+        wq = width * float(rng.uniform(0.6, 1.4))
+        length = 2 * reach[0] * float(rng.uniform(0.5, 1.0))
+        p0 = -reach[0] + float(rng.uniform(0.0, 2 * reach[0] - length))
+        corners = [a * e + b * n for a, b in ((p0, q - wq / 2), (p0 + length, q - wq / 2), (p0 + length, q + wq / 2))]
+        corners.append(p0 * e + (q + wq / 2) * n)
+        poly = np.array([at(float(c[0]), float(c[1])) for c in corners], dtype=np.int32)
+        cv2.fillPoly(sun, [poly], float(rng.uniform(0.75, 1.0)), cv2.LINE_8, shift)
+        q += wq / 2 + width * float(rng.uniform(2.2, 3.2))
+    gain *= 1.0 + params.sun_stripes * blur(sun, params.light_softness)
+    # soft shadows, centred on the carpet; where they overlap the deepest counts (drawn last)
+    shades = []
+    for _ in range(max(1, round(4 * kx * ky / 10.0))):
+        cx, cy = float(rng.uniform(-kx, kx)), float(rng.uniform(-ky, ky))
+        a, b, th = float(rng.uniform(0.3, 1.2)), float(rng.uniform(0.3, 3.0)), float(rng.uniform(0.0, 180.0))
+        shades.append((float(rng.uniform(0.6, 1.0)), cx, cy, a, b, th))
+    dark = np.zeros((h, w), dtype=np.float32)
+    scale = (1 << shift) / texel
+    for depth, cx, cy, a, b, th in sorted(shades, key=lambda t: t[0]):
+        axes = round(a * scale), round(b * scale)
+        cv2.ellipse(dark, at(cx, cy), axes, th, 0.0, 360.0, depth, -1, cv2.LINE_8, shift)
+    gain *= 1.0 - params.shadows * blur(dark, SHADOW_SOFTNESS * params.light_softness)
+    # the hall light falls off toward the corners
+    a2, b2 = (xs / kx) ** 2, (ys / ky) ** 2
+    gain *= 1.0 - params.light_falloff * (a2 + b2 + a2 * b2) / 3.0
+    return np.ascontiguousarray(np.maximum(gain, MIN_LIGHT), dtype=np.float32)
 
 
 _BOARD_COLOURS = (
@@ -266,8 +360,12 @@ def colour_table(scheme: ColourScheme) -> NDArray[np.float32]:
     return np.asarray(rows, dtype=np.float32)
 
 
-def geometry(field: Field, neck_height: float, grass: bool) -> NDArray[np.float64]:
-    """The packed geometry vector (entries indexed by :class:`GEO`)."""
+def geometry(
+    field: Field, neck_height: float, grass: bool, lit: bool = False, tint: float = 0.0
+) -> NDArray[np.float64]:
+    """The packed geometry vector (entries indexed by :class:`GEO`). ``grass``: the floor has a
+    texture; ``lit``: the floor texture holds the light map (and is used), whose colour is
+    ``tint`` (see :class:`GEO`)."""
     d = field.dims
     hx, hy = hall_size(field)
     g = np.zeros(N_GEO)
@@ -281,5 +379,7 @@ def geometry(field: Field, neck_height: float, grass: bool) -> NDArray[np.float6
     g[GEO.BALL_R] = d.ball_diameter / 2
     g[GEO.POLE_R], g[GEO.POLE_H] = d.corner_pole_diameter / 2, POLE_HEIGHT
     g[GEO.FLOOR_TEXEL], g[GEO.WALL_TEXEL], g[GEO.NET_SPACING] = floor_texel(field), wall_texel(field), NET_SPACING
-    g[GEO.GRASS] = 1.0 if grass else 0.0
+    g[GEO.GRASS] = 1.0 if grass or lit else 0.0
+    g[GEO.LIT] = 1.0 if lit else 0.0
+    g[GEO.TINT] = tint if lit else 0.0
     return g

@@ -8,7 +8,10 @@ the ball as a shaded sphere (orange in ``classic``, white with black patches in
 ``modern``), other robots with team-coloured jerseys, and the hall beyond the field
 (boards, spectators, windows). The compiled work is in :mod:`teamsim.image_kernel`; image
 effects (lighting, noise, motion blur, rolling shutter, vignetting) in
-:mod:`teamsim.image_effects`, parameters in :mod:`teamsim.image_params`.
+:mod:`teamsim.image_effects`, parameters in :mod:`teamsim.image_params`. The uneven light of
+the hall (sun stripes, soft shadows, darker corners; :func:`teamsim.image_venue.light_map`)
+is an image effect too, but fixed in the world: the renderer draws it with the scene
+(floor, paint and objects), and only when effects are on.
 
 :meth:`ImageRenderer.annotate` gives the ground truth of an image: for every visible
 feature its pixels (crossing and penalty-mark points, line end points, post bottoms and
@@ -45,6 +48,7 @@ from teamsim.image_venue import (
     colour_table,
     floor_texture,
     geometry,
+    light_map,
     paint_circles,
     paint_strips,
     wall_texture,
@@ -122,6 +126,13 @@ class ImageRenderer:
         self._strips = paint_strips(field)
         self._circles = paint_circles(field)
         self._floor = floor_texture(field, params.grass_texture, params.venue_seed)
+        self._light = self._no_light = np.ones((1, 1), dtype=np.float32)
+        self._geo_lit, self._floor_lit = self._geo, self._floor
+        if params.has_illumination:  # the scene lit unevenly: the floor texture times the light
+            self._light = light_map(field, params)
+            self._floor_lit = np.ascontiguousarray(self._floor * self._light, dtype=np.float32)
+            self._geo_lit = geometry(field, self.rig.neck_height, True, lit=True, tint=params.light_tint)
+            self._geo_lit[GEO.MODERN_BALL] = self._geo[GEO.MODERN_BALL]
         self._walls = wall_texture(field, params.venue_seed)
         self._posts = np.ascontiguousarray(field.post_array, dtype=np.float64)
         self._poles = np.array([(p.x, p.y) for p in field.corner_poles], dtype=np.float64).reshape(-1, 2)
@@ -134,6 +145,22 @@ class ImageRenderer:
         s = self.rig.spec(camera)  # type: ignore[arg-type]
         return s.height, s.width
 
+    def light_at(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The gain of the hall's uneven light at world points ``xy`` (N x 2, m; bilinear in
+        the light map, as objects are lit). All ones without illumination (e.g. ``ideal``)."""
+        pts = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
+        lm = self._light
+        if lm.shape[0] < 2 or lm.shape[1] < 2:
+            return np.full(len(pts), float(lm[0, 0]))
+        texel, hx, hy = self._geo[GEO.FLOOR_TEXEL], self._geo[GEO.HALL_X], self._geo[GEO.HALL_Y]
+        tx = np.clip((pts[:, 0] + hx) / texel - 0.5, 0.0, lm.shape[1] - 1.0001)
+        ty = np.clip((pts[:, 1] + hy) / texel - 0.5, 0.0, lm.shape[0] - 1.0001)
+        ix, iy = tx.astype(np.int64), ty.astype(np.int64)
+        a, b = tx - ix, ty - iy
+        t0 = lm[iy, ix] + a * (lm[iy, ix + 1] - lm[iy, ix])
+        t1 = lm[iy + 1, ix] + a * (lm[iy + 1, ix + 1] - lm[iy + 1, ix])
+        return (t0 + b * (t1 - t0)).astype(np.float64)
+
     def camera_matrix(self, scene: Scene, robot: int) -> CameraMatrix:
         """The camera model of robot ``robot``'s image (robot frame)."""
         o = scene.observers[self._check(scene, robot)]
@@ -145,7 +172,8 @@ class ImageRenderer:
         """Robot ``robot``'s camera image (H x W x 3 uint8, RGB), into ``out`` if given.
 
         With ``effects=False`` (or the ``ideal`` preset) the image is the rendered scene
-        exactly; otherwise the image effects are applied and draw random numbers.
+        exactly, evenly lit; otherwise the hall's uneven light is rendered with it and the
+        image effects are applied (drawing random numbers).
         """
         r = self._check(scene, robot)
         o = scene.observers[r]
@@ -157,9 +185,11 @@ class ImageRenderer:
             raise ValueError(
                 f"out must be a C-contiguous uint8 array of shape {(h, w, 3)}, got {out.shape} {out.dtype}"
             )
+        lit = effects and self.params.has_illumination
         render_nb(
-            scene.observers, r, scene.occluders, scene.ball, self._cams, self._geo, self._colours, self._strips,
-            self._circles, self._floor, self._walls, self._posts, self._poles, self._ico, out,
+            scene.observers, r, scene.occluders, scene.ball, self._cams, self._geo_lit if lit else self._geo,
+            self._colours, self._strips, self._circles, self._floor_lit if lit else self._floor,
+            self._light if lit else self._no_light, self._walls, self._posts, self._poles, self._ico, out,
         )  # fmt: skip
         if effects and self.effects.active:
             spec = self.rig.spec(ci)

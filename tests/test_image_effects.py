@@ -1,16 +1,23 @@
-"""Tests of the camera image effects (teamsim.image_effects): motion blur, rolling shutter, photometry."""
+"""Tests of the camera image effects (teamsim.image_effects): motion blur, rolling shutter, photometry,
+and the uneven illumination of the hall the renderer draws (teamsim.image_venue.light_map)."""
 
 from __future__ import annotations
 
 import dataclasses
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
 
+from cognition.camera import CameraRig
+from cognition.field import FIELD_PRESETS, Field, make_colour_scheme
 from teamsim.image_effects import ImageEffects
 from teamsim.image_params import ImageParams
+from teamsim.image_venue import light_map
+from teamsim.images import ImageRenderer
+from teamsim.percepts import Scene, SceneRobot
 
 IDEAL = ImageParams.preset("ideal")
 H, W = 240, 320
@@ -415,3 +422,247 @@ def test_bad_camera_values_are_rejected(args: tuple[float, float, float, float],
         fx = ImageEffects(ImageParams.preset(preset), np.random.default_rng(0))
         with pytest.raises(ValueError, match=match):
             fx.apply(flat(0, 16, 16), *args, False)
+
+
+# ------------------------------------------------------------------------------------------ uneven illumination
+# The hall's light (sun stripes, soft shadows, darker corners) is rendered with the scene by
+# teamsim.images.ImageRenderer, fixed in the world frame (teamsim.image_venue.light_map).
+
+SPL = Field(FIELD_PRESETS["spl2025"], "spl2025")
+GREEN = np.array(make_colour_scheme("modern").field_green)
+LIT = dataclasses.replace(IDEAL, grass_texture=0.0, sun_stripes=0.3, shadows=0.25, light_falloff=0.2)
+"""Only the uneven light (no sensor effects, flat carpet): a lit image is the ideal one times the light."""
+FLAT = dataclasses.replace(IDEAL, grass_texture=0.0)
+
+
+def renderer(params: ImageParams, size: tuple[int, int] = (320, 240), seed: int = 0) -> ImageRenderer:
+    return ImageRenderer(SPL, "modern", CameraRig().with_resolution(*size), params, np.random.default_rng(seed))
+
+
+def carpet_grid(step: float = 0.05) -> np.ndarray:
+    """World points (N x 2, m) on a grid over the carpet (field plus border strip)."""
+    kx, ky = SPL.half_length + SPL.dims.border_strip, SPL.half_width + SPL.dims.border_strip
+    gx, gy = np.meshgrid(np.arange(-kx, kx, step) + step / 2, np.arange(-ky, ky, step) + step / 2)
+    return np.column_stack([gx.ravel(), gy.ravel()])
+
+
+def world_to_pixels(ren: ImageRenderer, scene: Scene, r: int, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Integer pixels (N x 2: column, row) of world ground points in robot ``r``'s image, and a mask of those seen."""
+    o = scene.observers[r]
+    c, s = math.cos(o[2]), math.sin(o[2])
+    dx, dy = xy[:, 0] - o[0], xy[:, 1] - o[1]
+    rel = np.column_stack([c * dx + s * dy, -s * dx + c * dy, np.zeros(len(xy))])
+    cam = ren.camera_matrix(scene, r)
+    uv, front = cam.project(rel)
+    ok = front & cam.in_image(uv)
+    px = np.zeros((len(xy), 2), dtype=np.int64)
+    px[ok] = np.floor(uv[ok]).astype(np.int64)
+    return px, ok
+
+
+def gain_ratio(lit: np.ndarray, even: np.ndarray, channel: int = 1) -> np.ndarray:
+    """Per pixel lit / evenly lit value of one channel (float; NaN where the even image is 0)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return lit[..., channel].astype(np.float64) / even[..., channel].astype(np.float64)
+
+
+def test_illumination_parameters_are_range_checked() -> None:
+    for name, value, shown in [
+        ("sun_stripes", -0.1, "[0, 2]"),
+        ("sun_stripes", 2.5, "[0, 2]"),
+        ("sun_stripe_width", 0.0, "(0, 10]"),
+        ("sun_direction", 3.2, "[-pi, pi]"),
+        ("shadows", 1.0, "[0, 1)"),
+        ("light_falloff", 1.0, "[0, 1)"),
+        ("light_falloff", -0.2, "[0, 1)"),
+        ("light_softness", 6.0, "[0, 5]"),
+        ("light_tint", 1.5, "[0, 1]"),
+    ]:
+        with pytest.raises(ValueError, match=rf"ImageParams\.{name}.*{re.escape(shown)}"):
+            dataclasses.replace(IDEAL, **{name: value})
+
+
+def test_illumination_counts_as_an_effect_only_with_a_strength() -> None:
+    assert not IDEAL.has_illumination and not IDEAL.has_effects
+    for name in ("default", "harsh"):
+        assert ImageParams.preset(name).has_illumination and ImageParams.preset(name).has_effects
+    for name in ("sun_stripes", "shadows", "light_falloff"):
+        p = dataclasses.replace(IDEAL, **{name: 0.2})
+        assert p.has_illumination and p.has_effects
+        assert ImageEffects(p, np.random.default_rng(0)).active
+        # the renderer draws the light; ImageEffects.apply leaves the image alone and draws no numbers
+        rng = np.random.default_rng(3)
+        state, image = rng.bit_generator.state, random_image()
+        out = image.copy()
+        ImageEffects(p, rng).apply(out, 300.0, 300.0, 1.0, 1.0, True)
+        np.testing.assert_array_equal(out, image)
+        assert rng.bit_generator.state == state
+    shape_only = dataclasses.replace(
+        IDEAL, sun_stripe_width=2.0, sun_direction=-1.0, light_softness=0.5, light_tint=0.5
+    )
+    assert not shape_only.has_illumination and not shape_only.has_effects
+    # stronger light in the harsh preset
+    d, h = ImageParams.preset("default"), ImageParams.preset("harsh")
+    assert h.sun_stripes > d.sun_stripes and h.shadows > d.shadows and h.light_falloff > d.light_falloff
+
+
+def scene_two_views() -> tuple[Scene, Scene]:
+    """The same robot at one spot with two head angles, and from another spot: both see the carpet around (1, 0.3)."""
+    a = Scene.build([SceneRobot(0, 1, -0.8, -0.4, 0.2, head_yaw=0.25, head_pitch=0.35)], (-4.0, -2.8), 1)
+    b = Scene.build([SceneRobot(0, 1, 2.9, 1.6, -2.6, head_yaw=-0.2, head_pitch=0.3)], (-4.0, -2.8), 1)
+    return a, b
+
+
+def test_ideal_images_have_no_illumination() -> None:
+    even = renderer(IDEAL)
+    np.testing.assert_array_equal(even.light_at(carpet_grid(0.5)), 1.0)
+    for sc in scene_two_views():
+        img = even.render(sc, 0)
+        # the shape parameters alone light nothing, and turning the light's strengths off gives the ideal image
+        shape_only = dataclasses.replace(IDEAL, sun_stripe_width=2.0, sun_direction=1.0, light_tint=0.5)
+        np.testing.assert_array_equal(renderer(shape_only).render(sc, 0), img)
+        # without effects, an unevenly lit renderer draws the evenly lit scene, bit for bit
+        lit = renderer(dataclasses.replace(LIT, grass_texture=IDEAL.grass_texture))
+        np.testing.assert_array_equal(lit.render(sc, 0, effects=False), img)
+        assert not np.array_equal(lit.render(sc, 0), img)
+
+
+def test_light_is_fixed_in_the_world() -> None:
+    """A carpet point has the same gain whichever way the camera looks at it: the light map's gain there."""
+    lit, even = renderer(LIT, (640, 480)), renderer(FLAT, (640, 480))
+    rng = np.random.default_rng(4)
+    xy = np.column_stack([rng.uniform(-0.5, 2.5, 6000), rng.uniform(-1.2, 1.8, 6000)])
+    truth = lit.light_at(xy)
+    scenes = [
+        *scene_two_views(),
+        Scene.build([SceneRobot(0, 1, -0.8, -0.4, 0.2, head_yaw=-0.1, head_pitch=0.5)], None, 1),
+    ]
+    ratios = []
+    for sc in scenes:
+        a, b = lit.render(sc, 0), even.render(sc, 0)
+        px, ok = world_to_pixels(lit, sc, 0, xy)
+        carpet = np.zeros(len(xy), dtype=bool)
+        carpet[ok] = np.all(b[px[ok, 1], px[ok, 0]] == GREEN, axis=-1)  # plain carpet, no paint
+        ratio = np.full(len(xy), np.nan)
+        ratio[carpet] = gain_ratio(a, b)[px[carpet, 1], px[carpet, 0]]
+        ratios.append(ratio)
+    ratios = np.array(ratios)
+    assert np.all(np.sum(np.isfinite(ratios), axis=1) > 800)
+    for k in range(len(scenes)):  # each view shows the gain of the world point it looks at
+        seen = np.isfinite(ratios[k])
+        assert np.abs(ratios[k][seen] - truth[seen]).max() < 0.02
+    both = np.isfinite(ratios[0]) & np.isfinite(ratios[1])
+    assert both.sum() > 300
+    assert np.abs(ratios[0][both] - ratios[1][both]).max() < 0.02  # two poses, the same point, the same light
+    assert np.ptp(truth[both]) > 0.2  # and the light does vary over the points compared
+
+
+def test_light_map_parts_behave_as_documented() -> None:
+    xy = carpet_grid()
+    kx, ky = SPL.half_length + SPL.dims.border_strip, SPL.half_width + SPL.dims.border_strip
+    # falloff alone: 1 at the centre, 1 - falloff at the carpet's corners, a third of the loss mid-edge
+    fall = renderer(dataclasses.replace(FLAT, light_falloff=0.2))
+    g = fall.light_at(np.array([[0.0, 0.0], [kx, ky], [-kx, ky], [0.0, ky], [kx, 0.0]]))
+    np.testing.assert_allclose(g, [1.0, 0.8, 0.8, 1 - 0.2 / 3, 1 - 0.2 / 3], atol=0.01)
+    # sun alone: never darker, stripes up to 1 + sun_stripes, running along sun_direction
+    for direction in (0.5, -1.2):
+        sun = renderer(dataclasses.replace(FLAT, sun_stripes=0.3, sun_direction=direction))
+        g = sun.light_at(xy)
+        assert g.min() >= 1.0 - 1e-6 and 1.2 < g.max() <= 1.3 + 1e-6
+        assert 0.1 < np.mean(g > 1.1) < 0.6  # stripes cover part of the carpet, not all of it
+        e = np.array([math.cos(direction), math.sin(direction)])
+        n = np.array([-e[1], e[0]])
+        along = np.abs(sun.light_at(xy + 0.1 * e) - g).mean()
+        across = np.abs(sun.light_at(xy + 0.1 * n) - g).mean()
+        assert across > 4.0 * along
+    # shadows alone: never brighter, as deep as 1 - shadows at most, some deep cores
+    shade = renderer(dataclasses.replace(FLAT, shadows=0.25))
+    g = shade.light_at(xy)
+    assert g.max() <= 1.0 + 1e-6 and g.min() >= 0.75 - 1e-6 and g.min() < 0.85
+    assert 0.1 < np.mean(g < 0.95) < 0.8
+
+
+def test_sun_stripes_have_soft_edges() -> None:
+    step = 0.01
+    y = np.arange(-3.0, 3.0, step)
+    line = np.column_stack([np.zeros_like(y), y])  # across stripes running along x
+    soft = renderer(dataclasses.replace(FLAT, sun_stripes=0.3, sun_direction=0.0, light_softness=0.1))
+    hard = renderer(dataclasses.replace(FLAT, sun_stripes=0.3, sun_direction=0.0, light_softness=0.0))
+    # a blurred step of 0.3 with sigma 0.1 m rises by at most 0.3 / (sqrt(2 pi) 0.1) = 1.2 per metre
+    assert np.abs(np.diff(soft.light_at(line))).max() / step < 1.5
+    assert np.abs(np.diff(hard.light_at(line))).max() / step > 4.0  # steps as sharp as the map's texels
+
+
+def test_default_light_shows_a_real_spread_of_carpet_brightness() -> None:
+    spreads = {}
+    for name in ("default", "harsh"):
+        g = renderer(ImageParams.preset(name)).light_at(carpet_grid())
+        lo, hi = np.percentile(g, [2, 98])
+        spreads[name] = hi / lo
+        assert g.min() < 0.8 and g.max() > 1.2
+    assert spreads["default"] > 1.4
+    assert spreads["harsh"] > spreads["default"] + 0.3
+    # and in an image with all the default effects (noise, vignetting, gains): the carpet's
+    # green differs by far more than the noise between its brighter and darker parts
+    params = dataclasses.replace(ImageParams.preset("default"), grass_texture=0.0)
+    sc = Scene.build([SceneRobot(0, 1, -0.6, -2.9, 2.1, head_pitch=0.25)], None, 1)
+    img = renderer(params, (640, 480)).render(sc, 0)
+    even = renderer(FLAT, (640, 480)).render(sc, 0)
+    carpet = np.all(even == GREEN, axis=-1)
+    assert carpet.mean() > 0.4
+    lo, hi = np.percentile(img[..., 1][carpet], [5, 95])
+    assert hi / lo > 1.3
+
+
+def test_light_is_tinted_warm_in_the_sun_and_blue_in_shadow() -> None:
+    """The hall floor (grey, 92/92/98) off the carpet: red moves (1 + t) times as much as green, blue (1 - t)."""
+    tint = 0.3
+    lit = renderer(dataclasses.replace(LIT, sun_stripes=0.6, light_tint=tint), (640, 480))
+    even = renderer(FLAT, (640, 480))
+    sc = Scene.build([SceneRobot(0, 1, 3.5, 3.0, math.pi / 2, head_pitch=0.3)], None, 1)  # looks at the side wall
+    a, b = lit.render(sc, 0), even.render(sc, 0)
+    floor = np.all(b == (92, 92, 98), axis=-1)
+    assert floor.sum() > 10000
+    g, r, bl = (gain_ratio(a, b, c)[floor] - 1.0 for c in (1, 0, 2))
+    for part in (g > 0.04, g < -0.04):  # sunlit (warm: more red than blue), shaded (bluish: more blue than red)
+        assert part.sum() > 2000
+        assert r[part].sum() / g[part].sum() == pytest.approx(1 + tint, abs=0.05)
+        assert bl[part].sum() / g[part].sum() == pytest.approx(1 - tint, abs=0.05)
+
+
+def test_objects_are_lit_by_the_light_at_their_foot_point() -> None:
+    """A robot walking through the light gets brighter where its feet are lit (the body is scaled alike)."""
+    lit, even = renderer(LIT, (640, 480)), renderer(FLAT, (640, 480))
+    watcher = SceneRobot(0, 1, -2.5, 0.0, 0.0, head_pitch=0.05)
+    ratios, truths = [], []
+    for y in np.linspace(-1.2, 1.2, 9):
+        walker = SceneRobot(1, 1, 0.0, float(y), math.pi)
+        with_it, without = Scene.build([watcher, walker], None, 1), Scene.build([watcher], None, 1)
+        empty = even.render(without, 0)
+        b = even.render(with_it, 0)
+        body = np.all(b != empty, axis=-1) & (b[..., 1] > 20) & (b[..., 1] < 180)  # unclipped robot pixels
+        assert body.sum() > 300
+        ratios.append(float(np.median(gain_ratio(lit.render(with_it, 0), b)[body])))
+        truths.append(float(lit.light_at(np.array([[0.0, y]]))[0]))
+    ratios, truths = np.array(ratios), np.array(truths)
+    assert np.ptp(truths) > 0.1  # the walk crosses brighter and darker ground
+    np.testing.assert_allclose(ratios, truths, atol=0.02)
+
+
+def test_illumination_is_deterministic_and_seeded_by_the_venue() -> None:
+    np.random.seed(7)  # noqa: NPY002 - the legacy global state must stay untouched
+    state = np.random.get_state()  # noqa: NPY002
+    default = ImageParams.preset("default")
+    a, b = light_map(SPL, default), light_map(SPL, default)
+    np.testing.assert_array_equal(a, b)
+    c = light_map(SPL, dataclasses.replace(default, venue_seed=1))
+    assert a.shape == c.shape and np.abs(a - c).mean() > 0.03
+    sc = scene_two_views()[0]
+    img1, img2 = renderer(default, seed=3).render(sc, 0), renderer(default, seed=3).render(sc, 0)
+    np.testing.assert_array_equal(img1, img2)
+    after = np.random.get_state()  # noqa: NPY002
+    assert state[0] == after[0] and np.array_equal(state[1], after[1]) and state[2:] == after[2:]
+    # the layout is the same in every preset, only the strengths differ
+    harsh = light_map(SPL, ImageParams.preset("harsh"))
+    assert np.corrcoef(np.log(a).ravel(), np.log(harsh).ravel())[0, 1] > 0.95
+    assert light_map(SPL, IDEAL).shape == (1, 1)
