@@ -38,6 +38,9 @@ blue_hue               (95, 130)       [0, 179]    hue window of blue (jerseys, 
 red_hue                (165, 2)        [0, 179]    hue window of red jerseys (wraps past 179)
 default_green          (68, 230, 130)  [0, 255]    carpet (hue, saturation, value) used when
                                                    calibration finds too few carpet pixels
+pale_saturation        0.6             [0, 1]      carpet-hued pixels this much paler than the carpet ...
+pale_value             1.12            [0, 3]      ... and this much brighter are white: the blend of a
+                                                   thin or blurred line with the carpet around it
 =====================  ==============  ==========  ===========================================
 """
 
@@ -100,6 +103,8 @@ class ColourParams:
     blue_hue: tuple[int, int] = (95, 130)
     red_hue: tuple[int, int] = (165, 2)
     default_green: tuple[int, int, int] = (68, 230, 130)
+    pale_saturation: float = 0.6
+    pale_value: float = 1.12
 
     RANGES: ClassVar[Ranges] = {
         "green_hue": _HUE,
@@ -115,6 +120,8 @@ class ColourParams:
         "blue_hue": _HUE,
         "red_hue": _HUE,
         "default_green": _LEVEL,
+        "pale_saturation": Range(0.0, 1.0),
+        "pale_value": Range(0.0, 3.0),
     }
 
     def __post_init__(self) -> None:
@@ -201,6 +208,7 @@ class ColourClassifier:
                 p.white_max_saturation, max(60.0, p.white_value * val), max(24.0, p.black_value * val),
                 p.min_saturation, max(24.0, p.colour_value * val),
                 *p.orange_hue, *p.yellow_hue, *p.blue_hue, *p.red_hue,
+                p.pale_saturation * sat, p.pale_value * val,
             ],
             dtype=np.float64,
         )  # fmt: skip
@@ -250,9 +258,11 @@ def _in_hue(h: float, lo: float, hi: float) -> bool:  # pragma: no cover - compi
 @nb.njit(cache=True)
 def _class_of(h: float, s: float, v: float, t: NDArray[np.float64]) -> int:  # pragma: no cover - compiled
     """The colour class of one HSV colour under thresholds ``t`` (layout of ``thresholds``)."""
-    green = _in_hue(h, t[0], t[1]) and s >= t[2] and v >= t[3]
-    if green:
+    in_green = _in_hue(h, t[0], t[1])
+    if in_green and s >= t[2] and v >= t[3]:
         return 1
+    if in_green and s <= t[17] and v >= t[18]:
+        return 2  # a white line blended with the carpet
     if v <= t[6]:
         return 3
     if s <= t[4] and v >= t[5]:

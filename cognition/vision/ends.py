@@ -2,8 +2,8 @@
 
 Both line methods end here: a segment found in the image (pixels) is extended along its
 direction as long as the white continues (scanlines and Hough points stop up to a scan step
-short of the true end), projected to the ground with the camera matrix (robot frame, metres),
-and dropped when it is too short or too far away on the ground. Each end is then classified
+short of the true end), projected to the ground with the camera matrix (robot frame, metres), cut at ``max_distance``
+(the cut end is open) and dropped when it is too short on the ground. Each end is then classified
 for the crossing detector (:mod:`.crossings`, DNT 3.7's confidence made strict): an end is
 *real* when carpet follows it, and *open* when the image edge, the field boundary or three
 pixels of something other than white or green (a robot, the ball) come first, because then
@@ -20,7 +20,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.vision.projection import ground_nb
+from cognition.vision.projection import ground_nb, pixel_nb
 
 GREEN, WHITE = 1, 2
 
@@ -73,6 +73,18 @@ def _is_open(
 
 
 @nb.njit(cache=True)
+def _reach(x1: float, y1: float, x2: float, y2: float, r: float) -> float:  # pragma: no cover - compiled
+    """The fraction t in [0, 1] of the way from (x1, y1) (within ``r`` of the origin) to (x2, y2)
+    (beyond it) where the segment leaves the circle of radius ``r``."""
+    dx, dy = x2 - x1, y2 - y1
+    a = dx * dx + dy * dy
+    b = 2.0 * (x1 * dx + y1 * dy)
+    c = x1 * x1 + y1 * y1 - r * r
+    disc = max(b * b - 4.0 * a * c, 0.0)
+    return min(1.0, max(0.0, (-b + math.sqrt(disc)) / (2.0 * a))) if a > 0.0 else 0.0
+
+
+@nb.njit(cache=True)
 def segments_on_ground_nb(
     cam: NDArray[np.float64],
     seg: NDArray[np.float64],
@@ -98,9 +110,22 @@ def segments_on_ground_nb(
             u2, v2 = follow_white_nb(classes, u2, v2, du, dv, 2 * probe)
         x1, y1, ok1 = ground_nb(cam, u1, v1, 0.0)
         x2, y2, ok2 = ground_nb(cam, u2, v2, 0.0)
-        if not (ok1 and ok2 and math.hypot(x2 - x1, y2 - y1) >= min_length):
+        if not (ok1 and ok2):
             continue
-        if math.hypot(x1, y1) > max_distance or math.hypot(x2, y2) > max_distance:
+        # a line running beyond max_distance is kept up to there (that end is then open)
+        far1, far2 = math.hypot(x1, y1) > max_distance, math.hypot(x2, y2) > max_distance
+        if far1 and far2:
+            continue
+        if far1 or far2:
+            if far1:
+                x1, y1, x2, y2 = x2, y2, x1, y1
+            t = _reach(x1, y1, x2, y2, max_distance)
+            x2, y2 = x1 + t * (x2 - x1), y1 + t * (y2 - y1)
+            if far1:
+                x1, y1, x2, y2 = x2, y2, x1, y1
+            u1, v1, _ = pixel_nb(cam, x1, y1, 0.0)
+            u2, v2, _ = pixel_nb(cam, x2, y2, 0.0)
+        if math.hypot(x2 - x1, y2 - y1) < min_length:
             continue
         px[m, 0], px[m, 1], px[m, 2], px[m, 3] = u1, v1, u2, v2
         ground[m, 0], ground[m, 1], ground[m, 2], ground[m, 3] = x1, y1, x2, y2
@@ -109,7 +134,7 @@ def segments_on_ground_nb(
             open_ends[m, 0] = open_ends[m, 1] = True
         else:
             du, dv = (u2 - u1) / length, (v2 - v1) / length
-            open_ends[m, 0] = _is_open(classes, boundary, u1, v1, -du, -dv, probe)
-            open_ends[m, 1] = _is_open(classes, boundary, u2, v2, du, dv, probe)
+            open_ends[m, 0] = far1 or _is_open(classes, boundary, u1, v1, -du, -dv, probe)
+            open_ends[m, 1] = far2 or _is_open(classes, boundary, u2, v2, du, dv, probe)
         m += 1
     return px[:m], ground[:m], open_ends[:m]

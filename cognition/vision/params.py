@@ -19,9 +19,16 @@ min_points              4                [2, 100]       points of a reported seg
 merge_angle             6 deg            [0, pi/2]      direction difference of segments that may merge
 min_line_length         0.10 m           [0, 100]       shorter segments (on the ground) are dropped
 max_distance            6.0 m            (0, 100]       features farther away (on the ground) are dropped
-crossing_margin         0.25 m           (0, 5]         "at a line's end" for crossings (DNT 3.7)
+crossing_margin         0.4 m            (0, 5]         a junction this far beyond a line's end is "at the end"
+crossing_margin_in      0.3 m            (0, 5]         ... and this far inside it (or 6 px; DNT 3.7)
+crossing_beyond         0.1 m            (0, 5]         the image is read this far past a junction (and to 2x)
 crossing_angle          20 deg           (0, pi/4]      allowed deviation from a right angle
-crossing_min_arm        0.15 m           (0, 10]        shortest segment that forms a crossing
+crossing_min_arm        0.15 m           (0, 10]        shortest line that forms a crossing
+crossing_max_mpp        0.08 m           (0, 10]        ground metres per pixel along a line at a junction
+merge_offset            0.06 m           (0, 5]         pieces of one line: offset from its carrier (+ 3 % of
+                                                        the distance) ...
+merge_gap               0.8 m            [0, 10]        ... and gap between them (SPL lines never continue one
+                                                        another across a gap)
 circle_cell             0.05 m           (0, 1]         vote grid of the centre circle (NimbRo: 6 cm)
 circle_directions       32               [4, 360]       votes per point on the ring
 circle_inlier           0.08 m           (0, 1]         distance from the circle of its points
@@ -74,9 +81,14 @@ class VisionParams:
     merge_angle: float = 6.0 * _DEG
     min_line_length: float = 0.10
     max_distance: float = 6.0
-    crossing_margin: float = 0.25
+    crossing_margin: float = 0.4
+    crossing_margin_in: float = 0.3
+    crossing_beyond: float = 0.1
     crossing_angle: float = 20.0 * _DEG
     crossing_min_arm: float = 0.15
+    crossing_max_mpp: float = 0.08
+    merge_offset: float = 0.06
+    merge_gap: float = 0.8
     circle_cell: float = 0.05
     circle_directions: int = 32
     circle_inlier: float = 0.08
@@ -104,8 +116,13 @@ class VisionParams:
         "min_line_length": non_negative(100.0),
         "max_distance": positive(100.0),
         "crossing_margin": positive(5.0),
+        "crossing_margin_in": positive(5.0),
+        "crossing_beyond": positive(5.0),
+        "merge_offset": positive(5.0),
+        "merge_gap": non_negative(10.0),
         "crossing_angle": Range(0.0, math.pi / 4, low_open=True),
         "crossing_min_arm": positive(10.0),
+        "crossing_max_mpp": positive(10.0),
         "circle_cell": positive(1.0),
         "circle_directions": Range(4, 360),
         "circle_inlier": positive(1.0),

@@ -133,7 +133,10 @@ class Vision:
             np.array([p.chain_gap * scale, p.chain_tolerance * scale, p.min_white, p.min_points, p.merge_angle]),
             p.min_line_length, max(4, round(12 * scale)),
         )  # fmt: skip
-        cross = crossings_nb(seg_ground, open_ends, p.crossing_margin, p.crossing_angle, p.crossing_min_arm, 0.3)
+        cross = crossings_nb(
+            seg_ground, open_ends, classes, boundary, cam, p.crossing_margin, p.crossing_margin_in, p.crossing_beyond,
+            p.crossing_angle, p.crossing_min_arm, 0.3, p.merge_angle, p.merge_offset, p.merge_gap, p.crossing_max_mpp,
+        )  # fmt: skip
         if math.isfinite(cx):
             cross = _circle_crossings_nb(cross, cx, cy, radius, seg_ground, cam, p.max_distance)
         marks = marks_nb(classes, points, loose, cam, dims.penalty_mark_size, p.mark_tolerance, p.mark_min_green)
