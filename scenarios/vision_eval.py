@@ -436,10 +436,11 @@ distance / bearing errors per feature type.
 
 Matching (tolerances for 320 px wide images, scaled with the width; greedy by pixel distance,
 one-to-one): posts base within 8 px or inside the true box, side must agree when both give one;
-crossings within 8 px and the same type (crossing_any: any type); lines: both ends within 4 px
-of the visible pieces of one true line (precision), true pieces over 20 px at least half
-covered (recall);
-circle centre within 0.3 m on the ground, recall over frames with at least half of it visible;
+crossings within 8 px and the same type (crossing_any: any type), counted for recall when
+every arm shows its first 0.2 m, unhidden, at least 6 px long and 2 px wide (crossing_seen: every
+crossing in view); lines: both ends within 4 px of the visible pieces of one true line
+(precision), true pieces over 20 px at least half covered (recall); circle centre within
+0.3 m on the ground, recall over frames with at least half of it visible;
 marks within 8 px; ball within max(4 px, its image radius); robots: feet inside the true box
 widened by 4 px. Annotations count when at least 4 px inside the image and within 6 m (ball:
 4 m) of the robot; detections when measured within the same distance. Errors: |measured -

@@ -36,7 +36,18 @@ robot           its pixel (the feet) lies inside the annotated box widened by ``
 
 **Counting.** An annotation counts for recall when its pixel lies at least ``margin_px`` inside
 the image (lines: no margin, they are clipped to the image) and its true position is within
-``max_distance`` of the robot (the ball: ``ball_distance``); a detection counts for precision
+``max_distance`` of the robot (the ball: ``ball_distance``). A crossing's type is a property of
+its arms, so a crossing counts for recall only when the image shows it: the first
+``crossing_arm`` metres of every arm lie inside the image (with the margin), span at least
+``crossing_arm_px`` pixels (a T whose bar goes on for two pixels past its stem looks like an
+L), are not behind a nearer robot or goal post (their annotated boxes), and are wide enough
+to be seen as a line there (the field's line width projects to at least ``line_min_width_px``
+across the arm, so that at least one pixel is covered by the line alone: narrower lines
+blend with the carpet; at 320 x 240 a line across the view from 0.5 m of camera height
+shrinks below 2 px at about 2 m, a line along the view at about 7 m). A crossing whose arms
+leave the image at once, hide behind a robot or blur into the carpet is counted in
+``crossing_seen``, the recall over every crossing in view, but not in
+``crossing``. A detection counts for precision
 when its measured position is within the same distance. Matches across the limit are neither
 hits nor errors: a detection at 3.9 m of a ball at 4.1 m is a correct detection that the
 recall does not ask for. Precision = matched counted detections / counted detections
@@ -67,6 +78,9 @@ circle_visible          0.5         [0, 1]        visible share of the circle fo
 margin_px               4 px        [0, 100]      annotations this close to the border do not count
 max_distance            6.0 m       (0, 100]      evaluation distance (vision's max_distance)
 ball_distance           4.0 m       (0, 100]      evaluation distance of the ball
+crossing_arm            0.2 m       [0, 5]        arm length a crossing must show to count for recall ...
+crossing_arm_px         6 px        [0, 100]      ... as at least this many pixels
+line_min_width_px       2.0 px      [0, 100]      narrowest image of a line that counts as seen
 ======================  ==========  ============  ================================================
 
 **Bars** (the vision issue, stated for ``default`` images and >= 500 frames per colour
@@ -92,9 +106,11 @@ from cognition.vision.draw import percept_pixels
 from teamsim.images import ImageAnnotations
 from teamsim.percepts import CIRCLE_SAMPLES, Scene
 
-KINDS: tuple[str, ...] = ("post", "crossing", "crossing_any", "line", "circle", "mark", "ball", "robot")
+KINDS: tuple[str, ...] = (
+    "post", "crossing", "crossing_any", "crossing_seen", "line", "circle", "mark", "ball", "robot"
+)  # fmt: skip
 """Kinds of the evaluation (rows of the table), in order."""
-LABELS = {"post": "side", "crossing": "type", "crossing_any": "type", "robot": "team"}
+LABELS = {"post": "side", "crossing": "type", "crossing_any": "type", "crossing_seen": "type", "robot": "team"}
 """What the ``label`` column checks per kind."""
 BASE_WIDTH = 320.0
 """Image width (px) the pixel tolerances are given for."""
@@ -120,6 +136,9 @@ class EvalParams:
     margin_px: float = 4.0
     max_distance: float = 6.0
     ball_distance: float = 4.0
+    crossing_arm: float = 0.2
+    crossing_arm_px: float = 6.0
+    line_min_width_px: float = 2.0
 
     RANGES: ClassVar[Ranges] = {
         "crossing_px": positive(100.0),
@@ -135,6 +154,9 @@ class EvalParams:
         "margin_px": non_negative(100.0),
         "max_distance": positive(100.0),
         "ball_distance": positive(100.0),
+        "crossing_arm": non_negative(5.0),
+        "crossing_arm_px": non_negative(100.0),
+        "line_min_width_px": non_negative(100.0),
     }
 
     def __post_init__(self) -> None:
@@ -346,6 +368,68 @@ def _point_tally(
     return t
 
 
+def crossings_classifiable(
+    ann: ImageAnnotations,
+    scene: Scene,
+    field_map: Field,
+    pose: tuple[float, float, float],
+    p: EvalParams,
+    margin: float,
+) -> NDArray[np.bool_]:
+    """Whether each annotated crossing shows its type in the image (module docstring, Counting)."""
+    a = ann.crossings
+    out = np.ones(len(a), dtype=np.bool_)
+    if not len(a) or p.crossing_arm <= 0.0:
+        return out
+    cam = ann.camera
+    s = cam.spec
+    ids = a[:, 3].astype(int)
+    xyo = field_map.crossing_array[ids]
+    kinds = field_map.crossing_kinds[ids]
+    half_w = field_map.dims.line_width / 2
+    # occluders: boxes of robots and posts with their distances from the robot
+    boxes, dist = [], []
+    for row in ann.robots:
+        boxes.append(row[2:6])
+        dist.append(float(np.hypot(*_to_robot(scene.occluders[int(row[6]), :2], pose)[0])))
+    for row in ann.posts:
+        boxes.append(row[2:6])
+        dist.append(float(np.hypot(*_to_robot(field_map.post_array[int(row[7])], pose)[0])))
+    box = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    box_d = np.asarray(dist, dtype=float)
+    for c in range(len(a)):
+        x, y, o = xyo[c]
+        kind = int(kinds[c])
+        junction = a[c, :2]
+        if kind == 0:  # L: the arms are 45 degrees either side of the bisector
+            arms = (o - math.pi / 4, o + math.pi / 4)
+        elif kind == 1:  # T: the stem and the two halves of the bar
+            arms = (o, o + math.pi / 2, o - math.pi / 2)
+        else:
+            arms = (o, o + math.pi / 2, o + math.pi, o - math.pi / 2)
+        for arm in arms:
+            ca, sa = math.cos(arm), math.sin(arm)
+            ex, ey = x + p.crossing_arm * ca, y + p.crossing_arm * sa
+            # the arm's end and the line's two edges there (across the arm)
+            pts = np.array([[ex, ey], [ex - half_w * sa, ey + half_w * ca], [ex + half_w * sa, ey - half_w * ca]])
+            rel = _to_robot(pts, pose)
+            uv, front = cam.project(np.column_stack([rel, np.zeros(3)]))
+            u, v = uv[0]
+            if not (
+                front.all() and margin <= u <= s.width - margin and margin <= v <= s.height - margin
+                and float(np.hypot(*(uv[1] - uv[2]))) >= p.line_min_width_px * s.width / BASE_WIDTH
+                and float(np.hypot(*(uv[0] - junction))) >= p.crossing_arm_px * s.width / BASE_WIDTH
+            ):  # fmt: skip
+                out[c] = False
+                break
+            d = float(np.hypot(*rel[0]))
+            hidden = (box[:, 0] <= u) & (u <= box[:, 2]) & (box[:, 1] <= v) & (v <= box[:, 3]) & (box_d < d)
+            if hidden.any():
+                out[c] = False
+                break
+    return out
+
+
 def evaluate_frame(
     percepts: Percepts,
     ann: ImageAnnotations,
@@ -400,11 +484,14 @@ def evaluate_frame(
     true = _to_robot(field_map.crossing_array[a[:, 3].astype(int), :2] if len(a) else np.zeros((0, 2)), pose)
     det_to_ann, _ = match_points(uv, a[:, :2], p.crossing_px * k)
     agree, checked = labels_agree(t.subtype, a[:, 2].astype(np.int64), det_to_ann, None)
-    counted_d, counted_a = near(t.xy, rng), inside(a[:, :2]) & near(true, rng)
+    counted_d, in_view = near(t.xy, rng), inside(a[:, :2]) & near(true, rng)
+    counted_a = in_view & crossings_classifiable(ann, scene, field_map, pose, p, margin)
     out["crossing"] = _point_tally(t.xy, true, det_to_ann, counted_d, counted_a, agree, checked)
     any_kind = _point_tally(t.xy, true, det_to_ann, counted_d, counted_a)
     any_kind.label_checked, any_kind.label_correct = out["crossing"].label_checked, out["crossing"].label_correct
     out["crossing_any"] = any_kind
+    seen = _point_tally(t.xy, true, det_to_ann, counted_d, in_view, agree, checked)
+    out["crossing_seen"] = seen
     out["line"] = _line_tally(percepts, ann, field_map, pose, p, k)
     out["circle"] = _circle_tally(percepts, ann, field_map, pose, p)
     # marks

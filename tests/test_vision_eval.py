@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +28,7 @@ from scenarios.vision_match import (
     KINDS,
     EvalParams,
     Tally,
+    crossings_classifiable,
     evaluate_frame,
     greedy_match,
     labels_agree,
@@ -109,14 +111,15 @@ def test_crossings_3px_off_match_20px_off_do_not_and_the_type_counts() -> None:
     cam = ann.camera
     (u0, v0, k0, _), (u1, v1, k1, _) = ann.crossings
     assert k0 == k1 == 1  # two T crossings
+    every = EvalParams(crossing_arm=0.0)  # count both crossings (their arms are not what this tests)
     near = row(cam, u0 + 3.0, v0, subtype=k0, orientation=0.0)
     far = row(cam, u1 - 20.0, v1 + 2.0, subtype=k1, orientation=0.0)
-    t = evaluate_frame(percepts(cam, cross=[near, far]), ann, scene, FIELD)
+    t = evaluate_frame(percepts(cam, cross=[near, far]), ann, scene, FIELD, every)
     assert counts(t["crossing"]) == (1, 1, 1)
     assert counts(t["crossing_any"]) == (1, 1, 1)
     assert t["crossing"].errors[0][0] == pytest.approx(np.hypot(*(FIELD.crossing_array[19, :2] - [2.0, 0.0])))
     wrong = row(cam, u0 + 1.0, v0 - 1.0, subtype=0, orientation=0.0)  # an L where the T is
-    t = evaluate_frame(percepts(cam, cross=[wrong]), ann, scene, FIELD)
+    t = evaluate_frame(percepts(cam, cross=[wrong]), ann, scene, FIELD, every)
     assert counts(t["crossing"]) == (0, 1, 2)  # strict: a false positive and two misses
     assert counts(t["crossing_any"]) == (1, 0, 1)  # any type: a hit
     assert (t["crossing"].label_checked, t["crossing"].label_correct) == (1, 0)
@@ -367,3 +370,31 @@ def test_draw_percepts_marks_every_kind_in_its_colour_and_keeps_the_input() -> N
         draw_percepts(np.zeros((240, 320), dtype=np.uint8), p)
     with pytest.raises(ValueError, match="scale"):
         draw_percepts(image, p, scale=0.0)
+
+
+def test_a_crossing_counts_for_recall_only_when_its_arms_show_its_type() -> None:
+    # looking along the halfway line from near the touchline: the T at the touchline is at the
+    # image's lower edge with its stem in view but the touchline's arms cut by the image border
+    fld = FIELD
+    looking = SceneRobot(0, 1, 0.0, -2.3, math.pi / 2, head_pitch=0.35)
+    scene = Scene.build([looking], (3.0, 3.0), 5)
+    ann = ImageRenderer(fld, "classic", None, "ideal").annotate(scene)[0]
+    pose = (0.0, -2.3, math.pi / 2)
+    shown = crossings_classifiable(ann, scene, fld, pose, EvalParams(), 4.0)
+    ids = ann.crossings[:, 3].astype(int)
+    assert len(ids) >= 1
+    # the far T at the other touchline is 5.3 m away: its bar runs across the view and is
+    # thinner than 2 px there, so it does not count
+    far = [k for k, i in enumerate(ids) if abs(fld.crossing_array[i, 1] - 3.0) < 1e-6]
+    assert far and not shown[far].any()
+    # with no arm requirement every crossing in view counts
+    assert crossings_classifiable(ann, scene, fld, pose, EvalParams(crossing_arm=0.0), 4.0).all()
+    # a clearly seen L: the corner of the own goal area from 1.2 m, head down
+    corner = fld.crossing_array[fld.crossing_kinds == 0]
+    cx, cy = corner[np.argmin(np.hypot(corner[:, 0] + 3.9, corner[:, 1] - 1.1))][:2]
+    robot = SceneRobot(0, 1, cx + 1.0, cy - 0.6, math.atan2(0.6, -1.0), head_pitch=0.3)
+    scene = Scene.build([robot], (3.0, 3.0), 5)
+    ann = ImageRenderer(fld, "classic", None, "ideal").annotate(scene)[0]
+    pose = (robot.x, robot.y, robot.theta)
+    k = [j for j, i in enumerate(ann.crossings[:, 3].astype(int)) if np.allclose(fld.crossing_array[i, :2], (cx, cy))]
+    assert k and crossings_classifiable(ann, scene, fld, pose, EvalParams(), 4.0)[k].all()
