@@ -68,7 +68,7 @@ def centre_circle_nb(
     if not math.isfinite(cx):
         return math.nan, math.nan, on
     seen, share = verify_circle_nb(classes, boundary, cam, cx, cy, radius, 64)
-    if seen < 8 or share < min_coverage:
+    if seen < 16 or share < min_coverage:  # a quarter of the circle in view, mostly on white
         return math.nan, math.nan, on
     for k in range(n):
         if valid[k] and abs(math.hypot(ground[k, 0] - cx, ground[k, 1] - cy) - radius) <= 1.5 * inlier:

@@ -6,8 +6,9 @@ that ended up in no line segment and not on the centre circle seeds a blob: the 
 pixels around it within a window twice the size a mark has at that distance (from the
 camera matrix). The blob is a mark when its ground size is within ``size_tolerance`` of the
 field's mark size in both directions, when the ring of pixels just outside it is mostly
-green (a mark lies on open carpet; a line, a robot or the ball touches other colours), and
-when it holds no black (the modern ball's patches). Pixels: ``u`` right, ``v`` down.
+green (a mark lies on open carpet; a line, a robot or the ball touches other colours), when
+it holds no black (the modern ball's patches) and when it is at least ``min_px`` pixels tall
+and wide (fragments of far lines are smaller). Pixels: ``u`` right, ``v`` down.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ def marks_nb(
     size: float,
     size_tolerance: float,
     min_green: float,
+    min_px: int,
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
     """Mark candidates (M x 4: u, v centre pixel, width and height in px) from the free points."""
     height, width = classes.shape
@@ -67,6 +69,8 @@ def marks_nb(
                     black += 1
         if black > 0 or lo_i <= i0 or hi_i >= i1 or lo_j <= j0 or hi_j >= j1:
             continue  # touches the window: part of something larger, or dark patches inside
+        if hi_i - lo_i + 1 < min_px or hi_j - lo_j + 1 < min_px:
+            continue  # too small to tell from a fragment of a far line
         w_m = (hi_i - lo_i + 1) * mu
         h_m = (hi_j - lo_j + 1) * mv
         lo, hi = size * (1.0 - size_tolerance), size * (1.0 + size_tolerance)

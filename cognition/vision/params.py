@@ -34,9 +34,12 @@ circle_directions       32               [4, 360]       votes per point on the r
 circle_inlier           0.08 m           (0, 1]         distance from the circle of its points
 circle_min_points       8                [3, 1000]      inliers of an accepted circle
 circle_min_span         90 deg           [0, 2pi]       arc the inliers must cover
-circle_min_coverage     0.6              [0, 1]         share of the projected circle's visible points on white
+circle_min_coverage     0.85             [0, 1]         share of the projected circle's visible points on white
 mark_tolerance          0.6              (0, 5]         relative size error of a penalty mark blob
 mark_min_green          0.8              [0, 1]         green share of the ring around a mark
+mark_max_distance       3.0 m            (0, 100]       farther blobs are not marks (a 10 cm mark is then about
+                                                        2 px tall at 320 x 240, as thin as broken far lines)
+mark_min_px             2                [1, 100]       smallest height and width of a mark blob (px at 320)
 sigma_alpha_base        1 deg            [0, pi/2]      Darmstadt eq. 3: base sigma about the pitch axis
 sigma_beta_base         1 deg            [0, pi/2]      Darmstadt eq. 4: base sigma about the yaw axis
 c_tilt                  0.03 s           [0, 10]        eq. 5: sigma_alpha grows by c_tilt x |pitch rate|
@@ -94,9 +97,11 @@ class VisionParams:
     circle_inlier: float = 0.08
     circle_min_points: int = 8
     circle_min_span: float = 90.0 * _DEG
-    circle_min_coverage: float = 0.6
+    circle_min_coverage: float = 0.85
     mark_tolerance: float = 0.6
     mark_min_green: float = 0.8
+    mark_max_distance: float = 3.0
+    mark_min_px: int = 2
     sigma_alpha_base: float = 1.0 * _DEG
     sigma_beta_base: float = 1.0 * _DEG
     c_tilt: float = 0.03
@@ -131,6 +136,8 @@ class VisionParams:
         "circle_min_coverage": Range(0.0, 1.0),
         "mark_tolerance": positive(5.0),
         "mark_min_green": Range(0.0, 1.0),
+        "mark_max_distance": positive(100.0),
+        "mark_min_px": Range(1, 100),
         "sigma_alpha_base": _ANGLE,
         "sigma_beta_base": _ANGLE,
         "c_tilt": non_negative(10.0),

@@ -139,7 +139,10 @@ class Vision:
         )  # fmt: skip
         if math.isfinite(cx):
             cross = _circle_crossings_nb(cross, cx, cy, radius, seg_ground, cam, p.max_distance)
-        marks = marks_nb(classes, points, loose, cam, dims.penalty_mark_size, p.mark_tolerance, p.mark_min_green)
+        marks = marks_nb(
+            classes, points, loose, cam, dims.penalty_mark_size, p.mark_tolerance, p.mark_min_green,
+            max(1, round(p.mark_min_px * scale)),
+        )  # fmt: skip
         self.debug = VisionDebug(classes, boundary, points, seg_px, seg_ground)
         sa, sb = sigmas(
             p.sigma_alpha_base, p.sigma_beta_base, p.c_tilt, p.c_pan, p.sigma_alpha_moving, p.sigma_beta_moving,
@@ -151,7 +154,7 @@ class Vision:
         if math.isfinite(cx):
             tables[Kind.CIRCLE] = point_rows_nb(np.array([[cx, cy]]), _no_pixels(1), 0.0, cam, sa, sb)
         if len(marks):
-            xy, ok = ground_points_nb(cam, marks, p.max_distance)
+            xy, ok = ground_points_nb(cam, marks, p.mark_max_distance)
             tables[Kind.MARK] = point_rows_nb(xy[ok], np.ascontiguousarray(marks[ok, :2]), 0.0, cam, sa, sb)
         rows = np.concatenate(tables)
         offsets = np.zeros(N_KINDS + 1, dtype=np.int64)
