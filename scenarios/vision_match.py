@@ -20,8 +20,10 @@ post            its base pixel is within ``post_px`` of the annotated base or in
                 positive and a miss)
 crossing        its pixel is within ``crossing_px`` and its type L/T/X agrees (a wrong type is a
                 false positive and a miss); ``crossing_any`` is the same without the type
-line            precision: both end pixels within ``line_px`` of the annotated visible pieces
-                of one field line (a segment may bridge a robot standing on the line);
+line            precision: both end pixels within ``line_px`` of the carrier line of the annotated
+                visible pieces of one field line, and not beyond a piece's ends by more than
+                3 ``line_px`` or 20 % of it (a segment may bridge a robot standing on the line,
+                or run into the width of the line it meets);
                 recall: an annotated piece (its part within range) longer than
                 ``line_min_px`` counts, and is found when at least ``line_cover`` of it lies
                 within ``line_px`` of detected segments
@@ -236,6 +238,19 @@ def _segment_distance(p: NDArray[np.float64], seg: NDArray[np.float64]) -> NDArr
     return np.linalg.norm(rel - t[..., None] * ab, axis=-1)
 
 
+def _carrier_distance(p: NDArray[np.float64], seg: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
+    """Distances (n x m) from points p (n x 2) to the carrier lines of segments seg (m x 4),
+    infinite where a point lies farther than max(3 tolerance, 20 % of the segment) beyond its
+    ends along it."""
+    a, ab = seg[None, :, :2], seg[None, :, 2:] - seg[None, :, :2]
+    length = np.maximum(np.linalg.norm(ab, axis=-1), 1e-9)
+    rel = p[:, None, :] - a
+    along = (rel * ab).sum(-1) / length
+    across = np.abs(rel[..., 0] * ab[..., 1] - rel[..., 1] * ab[..., 0]) / length
+    slack = np.maximum(3.0 * tolerance, 0.2 * length)
+    return np.where((along >= -slack) & (along <= length + slack), across, np.inf)
+
+
 def match_lines(
     det_seg: NDArray[np.float64],
     ann_seg: NDArray[np.float64],
@@ -248,7 +263,9 @@ def match_lines(
     Pieces with the same id (``ann_ids``, default: each piece its own id) are pieces of one
     straight line (split where robots hide it). A detected segment (u1, v1, u2, v2) lies on
     the line whose pieces are nearest to both its ends when both are within ``tolerance`` px of
-    them (so a segment bridging a robot in front of a line is on that line). Each annotated
+    their carrier lines, no farther than max(3 ``tolerance``, 20 % of the piece) beyond the
+    piece (a segment bridging a robot in front of a line is on that line; one running into the
+    width of a line it meets at a crossing too). Each annotated
     piece is sampled at ``samples`` points; a sample is covered when it is within
     ``tolerance`` of a detected segment.
     """
@@ -263,7 +280,7 @@ def match_lines(
     same = ids[None, :] == names[:, None]  # (lines x pieces)
     ends = []
     for end in (det[:, :2], det[:, 2:]):
-        d = np.nan_to_num(_segment_distance(end, ann), nan=np.inf)
+        d = np.nan_to_num(_carrier_distance(end, ann, tolerance), nan=np.inf)
         ends.append(np.where(same[None], d[:, None, :], np.inf).min(axis=2))  # (det x lines)
     worst = np.maximum(*ends)
     best = np.argmin(worst, axis=1)
