@@ -36,6 +36,10 @@ from cognition.localization import LocalizationParams
 from cognition.params import PROBABILITY, Range, check_number, positive
 from cognition.representations import HeadRequest, KickRequest, WalkRequest
 from cognition.vision import ColourParams, VisionParams
+from cognition.vision.ball import BallParams
+from cognition.vision.hough import HoughParams
+from cognition.vision.posts import PostParams
+from cognition.vision.robots import ObstacleParams
 from cognition.worldmodel.goal import GoalModel, GoalModelParams
 from cognition.worldmodel.hypotheses import HypothesisParams
 from cognition.worldmodel.kalman_ball import KalmanBallParams
@@ -77,6 +81,10 @@ BASES: dict[type, Any] = {
     EnvConfig: EnvConfig(),
     VisionParams: VisionParams(),
     ColourParams: ColourParams(),
+    HoughParams: HoughParams(),
+    PostParams: PostParams(),
+    BallParams: BallParams(),
+    ObstacleParams: ObstacleParams(),
     RewardWeights: RewardWeights(),
     MatchConfig: MatchConfig(),
     Kidnap: Kidnap(1.0, 0, 1, (0.5, -0.5, 1.0)),

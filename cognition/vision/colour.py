@@ -197,6 +197,13 @@ class ColourClassifier:
             self._luts.move_to_end(key)
         return table
 
+    def class_of(self, rgb: tuple[int, int, int]) -> int:
+        """The class of one RGB colour (0..255 each) under the default calibration: how vision
+        sees a colour scheme's nominal colours (goals, jerseys)."""
+        h, s, v = self.params.default_green
+        r, g, b = (min(255, max(0, int(c))) for c in rgb)
+        return int(self.lut(Calibration(h, s, v, 0))[((r >> 3) << 10) | ((g >> 3) << 5) | (b >> 3)])
+
     def thresholds(self, key: tuple[int, int, int]) -> NDArray[np.float64]:
         """The threshold vector of a quantized calibration (hue, saturation // 16, value // 8)."""
         p = self.params

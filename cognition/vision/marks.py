@@ -13,11 +13,13 @@ and wide (fragments of far lines are smaller). Pixels: ``u`` right, ``v`` down.
 
 from __future__ import annotations
 
+import math
+
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.vision.projection import metres_per_pixel_nb
+from cognition.vision.projection import ground_nb, metres_per_pixel_nb
 
 GREEN, WHITE, BLACK = 1, 2, 3
 
@@ -96,3 +98,37 @@ def marks_nb(
         out[n, 3] = hi_j - lo_j + 1
         n += 1
     return out[:n]
+
+
+@nb.njit(cache=True)
+def loose_points_nb(
+    pts: NDArray[np.float64],
+    seg_px: NDArray[np.float64],
+    cam: NDArray[np.float64],
+    cx: float,
+    cy: float,
+    radius: float,
+    inlier: float,
+    tolerance: float,
+) -> NDArray[np.bool_]:  # pragma: no cover - compiled
+    """Which line points (K x >=2 pixels) lie farther than ``tolerance`` px from every segment
+    (S x 4 pixels) and, when a circle was found (centre ``cx, cy`` in the robot frame, m), not
+    within ``1.5 inlier`` m of its ring: the penalty-mark seeds of a line method that keeps
+    no point labels (``hough``)."""
+    n = pts.shape[0]
+    out = np.ones(n, dtype=np.bool_)
+    for k in range(n):
+        u, v = pts[k, 0], pts[k, 1]
+        for s in range(seg_px.shape[0]):
+            ax, ay = seg_px[s, 0], seg_px[s, 1]
+            dx, dy = seg_px[s, 2] - ax, seg_px[s, 3] - ay
+            d2 = dx * dx + dy * dy
+            t = 0.0 if d2 <= 0.0 else min(1.0, max(0.0, ((u - ax) * dx + (v - ay) * dy) / d2))
+            if math.hypot(u - ax - t * dx, v - ay - t * dy) <= tolerance:
+                out[k] = False
+                break
+        if out[k] and math.isfinite(cx):
+            x, y, ok = ground_nb(cam, u, v, 0.0)
+            if ok and abs(math.hypot(x - cx, y - cy) - radius) <= 1.5 * inlier:
+                out[k] = False
+    return out

@@ -9,6 +9,11 @@ parameter               default          range          meaning
 method                  dnt              dnt, hough     line method: DNT scanlines and chaining (3.6) or
                                                         NimbRo oriented points and Hough transform (5.1-5.2)
 colours                 ColourParams()                  colour classes and calibration (:mod:`.colour`)
+hough                   HoughParams()                   the ``hough`` line method (:mod:`.hough`)
+posts                   PostParams()                    goal posts (:mod:`.posts`)
+ball                    BallParams()                    the ball (:mod:`.ball`)
+obstacles               ObstacleParams()                robots as obstacles (:mod:`.robots`)
+robot_radius            0.14 m           (0, 1]         robots' body radius (their centre lies behind the feet)
 scan_step               4 px             [1, 64]        scanline spacing (DNT: every 5-10 px)
 boundary_run            6 px             [1, 100]       green run that starts the field (DNT 3.4), at 240 rows
 edge_gap                3 px             [1, 20]        pixels allowed between green and a line's white
@@ -59,7 +64,11 @@ from dataclasses import dataclass, field
 from typing import ClassVar, Literal
 
 from cognition.params import Range, Ranges, check_ranges, non_negative, positive
+from cognition.vision.ball import BallParams
 from cognition.vision.colour import ColourParams
+from cognition.vision.hough import HoughParams
+from cognition.vision.posts import PostParams
+from cognition.vision.robots import ObstacleParams
 
 _DEG = math.pi / 180.0
 _ANGLE = Range(0.0, math.pi / 2)
@@ -74,6 +83,11 @@ class VisionParams:
 
     method: Literal["dnt", "hough"] = "dnt"
     colours: ColourParams = field(default_factory=ColourParams)
+    hough: HoughParams = field(default_factory=HoughParams)
+    posts: PostParams = field(default_factory=PostParams)
+    ball: BallParams = field(default_factory=BallParams)
+    obstacles: ObstacleParams = field(default_factory=ObstacleParams)
+    robot_radius: float = 0.14
     scan_step: int = 4
     boundary_run: int = 6
     edge_gap: int = 3
@@ -110,6 +124,7 @@ class VisionParams:
     sigma_beta_moving: float = 2.0 * _DEG
 
     RANGES: ClassVar[Ranges] = {
+        "robot_radius": positive(1.0),
         "scan_step": Range(1, 64),
         "boundary_run": Range(1, 100),
         "edge_gap": Range(1, 20),

@@ -43,15 +43,20 @@ from numpy.typing import NDArray
 from cognition.camera import CameraMatrix
 from cognition.field import FIELD_PRESETS, ColourScheme, Field, make_colour_scheme
 from cognition.percepts import N_COLS, N_KINDS, Kind, Percepts
+from cognition.vision.ball import detect_ball
 from cognition.vision.boundary import field_boundary
 from cognition.vision.colour import ColourClassifier
 from cognition.vision.crossings import crossings_nb
 from cognition.vision.dnt import dnt_lines_nb, ground_points_nb
-from cognition.vision.image import as_rgb, check_camera
-from cognition.vision.marks import marks_nb
+from cognition.vision.hough import hough_lines
+from cognition.vision.image import VisionError, as_rgb, check_camera
+from cognition.vision.marks import loose_points_nb, marks_nb
 from cognition.vision.params import VisionParams
+from cognition.vision.posts import detect_posts
 from cognition.vision.projection import pixel_nb, sigmas
+from cognition.vision.robots import detect_robots
 from cognition.vision.rows import crossing_rows_nb, line_rows_nb, point_rows_nb
+from cognition.vision.scanlines import line_points_nb
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,6 +103,15 @@ class Vision:
         self.debug: VisionDebug | None = None
         """Intermediate results of the latest image."""
         p = self.params
+        self._goal_classes = (
+            self.classifier.class_of(self.scheme.own_goal),
+            self.classifier.class_of(self.scheme.opponent_goal),
+        )
+        """Colour classes of the scheme's two goals (own_goal, opponent_goal)."""
+        self._jersey_classes = tuple(self.classifier.class_of(c) for c in self.scheme.team_colours)
+        """Colour classes of the two teams' jerseys."""
+        self._modern_ball = self.scheme.ball_primary != self.scheme.ball_secondary
+        """The ball has patches (the white-and-black SPL ball) rather than one colour."""
         self._circle = np.array(
             [p.circle_cell, p.circle_directions, p.circle_inlier, p.circle_min_points, p.circle_min_span,
              p.circle_min_coverage],
@@ -112,12 +126,17 @@ class Vision:
         head_yaw_rate: float = 0.0,
         head_pitch_rate: float = 0.0,
         walking: bool = False,
+        own_goal: int = 0,
     ) -> Percepts:
         """Percepts of one image (RGB H x W x 3 or YUV422 H x W x 2, uint8) taken with ``camera``.
 
         ``time`` is the exposure time (s); the head rates (rad/s) and ``walking`` set the
-        reported sigmas (Darmstadt eqs. 3-6).
+        reported sigmas (Darmstadt eqs. 3-6). ``own_goal`` says which goal colour of the scheme
+        the robot defends (0: ``own_goal``, 1: ``opponent_goal``; it changes with the team and
+        the half), so that posts of goals with different colours are told apart.
         """
+        if own_goal not in (0, 1):
+            raise VisionError(f"own_goal must be 0 or 1 (a goal colour of the scheme), got {own_goal!r}")
         cam = check_camera(camera)
         rgb = as_rgb(image, camera)
         p = self.params
@@ -127,12 +146,20 @@ class Vision:
         boundary = field_boundary(classes, cam, max(1, round(p.boundary_run * height / 240.0)))
         dims = self.field.dims
         radius = self.field.centre_circle.radius if self.field.centre_circle is not None else 0.0
-        points, seg_px, seg_ground, open_ends, cx, cy, loose = dnt_lines_nb(
-            classes, boundary, cam, max(1, round(p.scan_step * scale)), dims.line_width,
-            max(1, round(p.edge_gap * scale)), p.max_distance, radius, self._circle,
-            np.array([p.chain_gap * scale, p.chain_tolerance * scale, p.min_white, p.min_points, p.merge_angle]),
-            p.min_line_length, max(4, round(12 * scale)),
-        )  # fmt: skip
+        step, gap = max(1, round(p.scan_step * scale)), max(1, round(p.edge_gap * scale))
+        if p.method == "dnt":
+            points, seg_px, seg_ground, open_ends, cx, cy, loose = dnt_lines_nb(
+                classes, boundary, cam, step, dims.line_width, gap, p.max_distance, radius, self._circle,
+                np.array([p.chain_gap * scale, p.chain_tolerance * scale, p.min_white, p.min_points, p.merge_angle]),
+                p.min_line_length, max(4, round(12 * scale)),
+            )  # fmt: skip
+        else:
+            lines = hough_lines(classes, boundary, cam, dims.line_width, radius, p.hough)
+            seg_px, seg_ground, open_ends = lines.seg_px, lines.seg_ground, lines.open_ends
+            cx, cy = lines.circle
+            # penalty-mark seeds: scanline points that lie on no line and not on the circle
+            points = line_points_nb(classes, boundary, cam, step, dims.line_width, gap)
+            loose = loose_points_nb(points, seg_px, cam, cx, cy, radius, p.circle_inlier, 3.0 * scale)
         cross = crossings_nb(
             seg_ground, open_ends, classes, boundary, cam, p.crossing_margin, p.crossing_margin_in, p.crossing_beyond,
             p.crossing_angle, p.crossing_min_arm, 0.3, p.merge_angle, p.merge_offset, p.merge_gap, p.crossing_max_mpp,
@@ -149,7 +176,17 @@ class Vision:
             head_pitch_rate, head_yaw_rate, walking,
         )  # fmt: skip
         tables: list[NDArray[np.float64]] = [_EMPTY] * N_KINDS
+        goals = self._goal_classes if own_goal == 0 else self._goal_classes[::-1]
+        tables[Kind.POST] = detect_posts(
+            classes, boundary, cam, goals, dims.goal_post_diameter, dims.goal_height, p.posts, sa, sb
+        )
         tables[Kind.CROSS] = crossing_rows_nb(cross, cam, sa, sb)
+        tables[Kind.BALL] = detect_ball(
+            rgb, classes, boundary, cam, dims.ball_diameter / 2, self._modern_ball, p.ball, sa, sb
+        )
+        tables[Kind.ROBOT] = detect_robots(
+            classes, boundary, cam, self._jersey_classes, self.team, p.robot_radius, p.obstacles, sa, sb
+        )
         tables[Kind.LINE] = line_rows_nb(seg_px, seg_ground, cam, sa, sb)
         if math.isfinite(cx):
             tables[Kind.CIRCLE] = point_rows_nb(np.array([[cx, cy]]), _no_pixels(1), 0.0, cam, sa, sb)
