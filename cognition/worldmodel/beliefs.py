@@ -269,9 +269,11 @@ class CognitionBeliefs:
         image = frame.image
         assert image is not None
         o = frame.odometry
+        # the home team (0) defends the scheme's own_goal colour in the first half; sides switch at half time
+        own_goal = int((self.context.team == 1) != (frame.game.first_half == 0))
         percepts = self.vision.detect(
             image.pixels, image.camera, image.time, frame.head.yaw_rate, frame.head.pitch_rate,
-            walking=o.dx != 0.0 or o.dy != 0.0 or o.dtheta != 0.0,
+            walking=o.dx != 0.0 or o.dy != 0.0 or o.dtheta != 0.0, own_goal=own_goal,
         )  # fmt: skip
         return replace(frame, percepts=percepts)
 
