@@ -56,7 +56,10 @@ carpet below their run and are not reported; a post cut by the left or right ima
 reported when its centre is in view, placed from its visible edge and its projected diameter.
 
 All pixel work is one compiled call; pixel sizes are for a 320 x 240 image and scale with the
-image width.
+image width. The compiled steps live in :mod:`.posts_scan` (the column histogram and the
+candidate runs, steps 1-2) and :mod:`.posts_check` (a candidate checked along its axis, steps
+2-3, and the crossbar of step 5); this module holds the parameters, the entry point and the
+compiled driver that runs them and places, thins out and pairs the posts (steps 4-5).
 
 ==================  =============  =============  ==================================================
 PostParams          default        range          meaning
@@ -101,7 +104,37 @@ from cognition.params import Range, Ranges, check_ranges, non_negative, positive
 from cognition.percepts import Col
 from cognition.vision.colour import Colour
 from cognition.vision.image import VisionError
-from cognition.vision.projection import ground_nb, pixel_nb
+from cognition.vision.posts_check import _check_axis, _crossbar, _search
+from cognition.vision.posts_scan import (
+    _N_PARAMS,
+    _P_BAND,
+    _P_BAR,
+    _P_COL,
+    _P_DHI,
+    _P_DLO,
+    _P_DMAX,
+    _P_FILL,
+    _P_FOOT,
+    _P_GAP,
+    _P_HEIGHT,
+    _P_HRANGE,
+    _P_LEN,
+    _P_LINE,
+    _P_NMS,
+    _P_POLE,
+    _P_REACH,
+    _P_ROBOT,
+    _P_SLACK,
+    _P_THICK,
+    _P_WHI,
+    _P_WLO,
+    _P_WMIN,
+    _columns,
+    _intervals,
+    _median_feet,
+    _post_at,
+)
+from cognition.vision.projection import pixel_nb
 from cognition.vision.rows import point_rows_nb
 
 
@@ -177,17 +210,7 @@ class PostParams:
         object.__setattr__(self, "packed", packed)
 
 
-# entries of PostParams.packed
-_P_GAP, _P_LINE, _P_FILL, _P_LEN, _P_WLO, _P_WHI, _P_SLACK = 0, 1, 2, 3, 4, 5, 6
-_P_BAR, _P_THICK, _P_DLO, _P_DHI, _P_DMAX, _P_BAND, _P_REACH = 7, 8, 9, 10, 11, 12, 13
-_P_WMIN, _P_FOOT, _P_ROBOT, _P_HEIGHT, _P_NMS, _P_HRANGE, _P_COL, _P_POLE = 14, 15, 16, 17, 18, 19, 20, 21
-_N_PARAMS = 22
 _MAX_CAND = 64
-_SAMPLES = 24
-"""Samples along the axis of a post in the column histogram (a post checked as a candidate is
-walked pixel by pixel)."""
-_Check = tuple[int, float, float, float, float, float, float, float, int, int, float, float]
-"""What :func:`_check_axis` returns."""
 _NO_DEBUG = np.zeros((0, 9))
 _GREEN = int(Colour.GREEN)
 _U2, _V2, _SUB, _GOAL = int(Col.U2), int(Col.V2), int(Col.SUBTYPE), int(Col.GOAL)
@@ -288,518 +311,7 @@ def _describe(a: object) -> str:
     return type(a).__name__
 
 
-# -- compiled detector ------------------------------------------------------------------------
-
-
-@nb.njit(cache=True)
-def _is_goal(c: int, g0: int, g1: int) -> bool:  # pragma: no cover - compiled
-    return c in (g0, g1)
-
-
-@nb.njit(cache=True)
-def _post_at(
-    cam: NDArray[np.float64], u: float, v: float, r: float, goal_h: float
-) -> tuple[bool, float, float, float, float, float]:  # pragma: no cover - compiled
-    """A post whose front foot is seen at pixel (u, v): (ok, centre x, y, top pixel u, v,
-    projected diameter in pixels)."""
-    xf, yf, ok = ground_nb(cam, u, v, 0.0)
-    if not ok:
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0
-    dx, dy = xf - cam[9], yf - cam[10]
-    d = math.hypot(dx, dy)
-    if d < 1e-6:
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0
-    ex, ey = dx / d, dy / d
-    xc, yc = xf + r * ex, yf + r * ey
-    ut, vt, okt = pixel_nb(cam, xc, yc, goal_h)
-    if not okt:
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0
-    ua, _, oka = pixel_nb(cam, xc - r * ey, yc + r * ex, 0.0)
-    ub, _, okb = pixel_nb(cam, xc + r * ey, yc - r * ex, 0.0)
-    if not (oka and okb):
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0
-    return True, xc, yc, ut, vt, abs(ub - ua)
-
-
-@nb.njit(cache=True)
-def _axis_run(
-    classes: NDArray[np.uint8],
-    g0: int,
-    g1: int,
-    ub: float,
-    vb: float,
-    ut: float,
-    vt: float,
-    start: int,
-    fill: float,
-    gap: int,
-    step: int,
-) -> tuple[bool, int, int, int, int]:  # pragma: no cover - compiled
-    """Walk up the axis from the foot (ub, vb) toward the top (ut, vt), from row ``start`` to
-    the top or where the axis leaves the image, every ``step`` rows: (at least ``fill`` of it
-    goal-coloured, last goal row, goal samples of class g0, of class g1, class of the pixel
-    that ended the run or -1). The run ends where too many samples missed for ``fill``, more
-    than ``gap`` pixels in a row or two green or coloured samples in a row (carpet, a jersey);
-    single noisy pixels do not end it (a miss with a goal-coloured pixel above it counts)."""
-    width = classes.shape[1]
-    slope = (ut - ub) / (vb - vt) if vb - vt > 1e-9 else 0.0
-    stop = max(math.floor(_visible_top(ub, vb, ut, vt, width)), 0)
-    total = (start - stop) // step + 1 if start >= stop else 0
-    budget = (1.0 - fill) * total
-    gap_samples = max(1, gap // step) if step > 1 else gap
-    last = start + 1
-    ended = -1
-    miss = 0
-    hard = 0
-    gap_run = 0
-    n0 = 0
-    n1 = 0
-    for j in range(start, stop - 1, -step):
-        i = int(ub + slope * (vb - (j + 0.5)))
-        if i < 0 or i >= width:
-            break
-        c = classes[j, i]
-        if not _is_goal(c, g0, g1) and j > 0 and _is_goal(classes[j - 1, i], g0, g1):
-            c = classes[j - 1, i]
-        if c == g0:
-            n0 += 1
-            last = j
-        elif c == g1:
-            n1 += 1
-            last = j
-        else:
-            miss += 1
-            gap_run += 1
-            # carpet or a colour (a jersey) inside the run: not a post (noise is grey or black)
-            hard = hard + 1 if c == 1 or c >= 4 else 0
-            if miss > budget or hard > 1 or gap_run > gap_samples:
-                ended = c
-                break
-            continue
-        hard = 0
-        gap_run = 0
-    return n0 + n1 >= fill * total - 1.0, last, n0, n1, ended
-
-
-@nb.njit(cache=True)
-def _foot(
-    classes: NDArray[np.uint8],
-    u: int,
-    start: int,
-    stop: int,
-    g0: int,
-    g1: int,
-    line_gap: int,
-    foot_gap: int,
-) -> tuple[int, int]:  # pragma: no cover - compiled
-    """The foot of a goal-coloured run in column u, searched upward from row ``start`` to row
-    ``stop``: (lowest goal row, first carpet row below it), or (-1, -1). The run must end on
-    green within ``foot_gap`` pixels. Green and up to ``line_gap`` other pixels in a row are
-    skipped on the way up (thin lines or noise in the carpet push the field boundary below a
-    post's foot). Where white is not a goal colour, white (lines) counts as carpet: a post may
-    stand on a line."""
-    height = classes.shape[0]
-    lines = g0 != 2 and g1 != 2
-    other = 0
-    for j in range(start, stop - 1, -1):
-        c = classes[j, u]
-        if _is_goal(c, g0, g1):
-            for k in range(j + 1, min(j + 2 + foot_gap, height)):
-                ck = classes[k, u]
-                if ck == 1 or (lines and ck == 2):
-                    return j, k
-            return -1, -1
-        if c == 1 or (lines and c == 2):
-            other = 0
-        else:
-            other += 1
-            if other > line_gap:  # the hall above the carpet
-                return -1, -1
-    return -1, -1
-
-
-@nb.njit(cache=True)
-def _row_run(
-    classes: NDArray[np.uint8], g0: int, g1: int, u: float, j: int, cap: int
-) -> tuple[int, int]:  # pragma: no cover - compiled
-    """The goal-coloured run of row j through (or next to) column u: (first, last) column, or (-1, -2)."""
-    width = classes.shape[1]
-    i = int(u)
-    if i < 0 or i >= width:
-        return -1, -2
-    if not _is_goal(classes[j, i], g0, g1):
-        if i + 1 < width and _is_goal(classes[j, i + 1], g0, g1):
-            i += 1
-        elif i - 1 >= 0 and _is_goal(classes[j, i - 1], g0, g1):
-            i -= 1
-        else:
-            return -1, -2
-    a = i
-    while a - 1 >= 0 and i - a < cap and _is_goal(classes[j, a - 1], g0, g1):
-        a -= 1
-    e = i
-    while e + 1 < width and e - i < cap and _is_goal(classes[j, e + 1], g0, g1):
-        e += 1
-    return a, e
-
-
-@nb.njit(cache=True)
-def _row_widths(
-    classes: NDArray[np.uint8], g0: int, g1: int, ub: float, vb: float, ut: float, vt: float, last: float, cap: int
-) -> float:  # pragma: no cover - compiled
-    """Median width of the goal-coloured row runs through the axis (foot (ub, vb), top (ut,
-    vt)) at eight heights between the foot and row ``last`` (px)."""
-    slope = (ut - ub) / (vb - vt) if vb - vt > 1e-9 else 0.0
-    widths = np.empty(8)
-    k = 0
-    for q in range(8):
-        j = int(vb - 1.0 - (q + 0.5) * (vb - 1.0 - last) / 8.0)
-        first, end = _row_run(classes, g0, g1, ub + slope * (vb - (j + 0.5)), j, cap)
-        widths[k] = end - first + 1.0
-        k += 1
-    return float(np.median(widths[:k]))
-
-
-@nb.njit(cache=True)
-def _median_feet(feet: NDArray[np.float64], lo: int, hi: int) -> float:  # pragma: no cover - compiled
-    """The foot row of a post over the candidate columns lo..hi: the 30th percentile of their
-    feet (-1 if none). Not the median: columns over a line seen along its length under the
-    post (white goals) have their foot where the line ends, lower in the image."""
-    vals = np.empty(max(hi - lo + 1, 1))
-    k = 0
-    for i in range(lo, hi + 1):
-        if feet[i] >= 0.0:
-            vals[k] = feet[i]
-            k += 1
-    if k == 0:
-        return -1.0
-    return float(np.sort(vals[:k])[int(0.3 * (k - 1) + 0.5)])
-
-
-@nb.njit(cache=True)
-def _band_fill(
-    classes: NDArray[np.uint8], g0: int, g1: int, ub: float, vb: float, ut: float, vt: float, last: int, band: float
-) -> tuple[float, float]:  # pragma: no cover - compiled
-    """Share of goal-coloured pixels in a band ``band`` px wide around the axis from the foot
-    (ub, vb) up to row ``last``, and the smallest share of one column of the band (noise
-    spreads over all columns, a thin string in front of a background leaves whole columns)."""
-    height, width = classes.shape
-    slope = (ut - ub) / (vb - vt) if vb - vt > 1e-9 else 0.0
-    n = min(max(int(band + 0.5), 1), 16)
-    hits = np.zeros(n)
-    seen = np.zeros(n)
-    for j in range(min(int(vb) - 1, height - 1), max(last, 0) - 1, -1):
-        i0 = math.floor(ub + slope * (vb - (j + 0.5)) - 0.5 * n + 0.5)
-        for k in range(n):
-            i = i0 + k
-            if 0 <= i < width:
-                seen[k] += 1.0
-                if _is_goal(classes[j, i], g0, g1):
-                    hits[k] += 1.0
-    total = seen.sum()
-    if total <= 0.0:
-        return 0.0, 0.0
-    lo = 1.0
-    for k in range(n):
-        if seen[k] > 0.0:
-            lo = min(lo, hits[k] / seen[k])
-    return hits.sum() / total, lo
-
-
-@nb.njit(cache=True)
-def _crossbar(
-    classes: NDArray[np.uint8], g0: int, g1: int, u: float, v: float, side: int, thick: float, steps: int
-) -> tuple[int, bool, bool]:  # pragma: no cover - compiled
-    """Follow a goal-coloured bar sideways from (u, v) (side -1 left, +1 right) for at most
-    ``steps`` columns: (columns followed, reached the image edge, goal colour right below most
-    of it: a wall of the hall in the goal's colour, not a bar)."""
-    height, width = classes.shape
-    half = 0.5 * thick + 2.0
-    need = max(1, math.ceil(thick))
-    vc = v
-    below = 0
-    for k in range(steps):
-        i = int(u) + side * (k + 1)
-        if i < 0 or i >= width:
-            return k, True, k >= 3 and below > 0.6 * k
-        lo = max(0, int(vc - half))
-        hi = min(height - 1, int(vc + half))
-        best = -1.0
-        best_d = 1e9
-        run = 0
-        for j in range(lo, hi + 2):
-            g = j <= hi and _is_goal(classes[j, i], g0, g1)
-            if g:
-                run += 1
-            elif run > 0:
-                if run >= need:
-                    mid = j - 0.5 * run
-                    dd = abs(mid - vc)
-                    if dd < best_d:
-                        best_d = dd
-                        best = mid
-                run = 0
-        if best < 0.0:
-            return k, False, k >= 3 and below > 0.6 * k
-        vc = best
-        j = int(vc + half + 1.0)
-        if j < height and _is_goal(classes[j, i], g0, g1):
-            below += 1
-    return steps, False, below > 0.6 * steps
-
-
-@nb.njit(cache=True)
-def _visible_top(ub: float, vb: float, ut: float, vt: float, width: int) -> float:  # pragma: no cover - compiled
-    """Row where the axis from the foot (ub, vb) to the top (ut, vt) ends or leaves the image."""
-    top = max(vt, 0.0)
-    if vb - vt > 1e-9:
-        slope = (ut - ub) / (vb - vt)  # du per row upward
-        if slope > 1e-9:
-            top = max(top, vb - (width - ub) / slope)
-        elif slope < -1e-9:
-            top = max(top, vb + ub / slope)
-    return top
-
-
-@nb.njit(cache=True)
-def _check_axis(
-    classes: NDArray[np.uint8],
-    cam: NDArray[np.float64],
-    feet: NDArray[np.float64],
-    g0: int,
-    g1: int,
-    uc: float,
-    ua: float,
-    i0: int,
-    i1: int,
-    r: float,
-    goal_h: float,
-    prm: NDArray[np.float64],
-) -> _Check:  # pragma: no cover - compiled
-    """Check a post centred at column ``uc`` whose foot is that of columns i0..i1 (see
-    :func:`_median_feet`), along the axis through column ``ua`` (the middle of its visible
-    part): (outcome, band fill, run share, foot row, centre x, y, top u, v, goal pixels of g0,
-    of g1, last row of the run, smallest column fill). Outcomes as in :func:`_posts_nb`. When
-    the run fails right above that foot (it is a line's, in front of the post), the next foot
-    up is tried."""
-    vb = _median_feet(feet, i0, i1)
-    if vb < 0.0:
-        return 2, 0.0, 0.0, vb, 0.0, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0
-    res = _check_at(classes, cam, g0, g1, uc, ua, vb, i0, i1, r, goal_h, prm)
-    if res[0] == 2 and res[2] < 0.3:
-        top = -1.0
-        for i in range(i0, i1 + 1):
-            if top < feet[i] < vb - 0.5:
-                top = feet[i]
-        if top >= 0.0:
-            other = _check_at(classes, cam, g0, g1, uc, ua, top, i0, i1, r, goal_h, prm)
-            if other[0] == 0:
-                return other
-    return res
-
-
-@nb.njit(cache=True)
-def _check_at(
-    classes: NDArray[np.uint8],
-    cam: NDArray[np.float64],
-    g0: int,
-    g1: int,
-    uc: float,
-    ua: float,
-    vb: float,
-    i0: int,
-    i1: int,
-    r: float,
-    goal_h: float,
-    prm: NDArray[np.float64],
-) -> _Check:  # pragma: no cover - compiled
-    """:func:`_check_axis` for the foot row ``vb``."""
-    width = classes.shape[1]
-    ok, xc, yc, ut, vt, w_exp = _post_at(cam, uc, vb, r, goal_h)
-    oka, _, _, uta, vta, _ = _post_at(cam, ua, vb, r, goal_h)
-    if not (ok and oka):
-        return 5, 0.0, 0.0, vb, 0.0, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0
-    visible = vb - _visible_top(ua, vb, uta, vta, width)
-    # one colour per post (a KidSize corner pole has bands of both goal colours)
-    gs = g0
-    fill, gap = prm[_P_FILL], int(prm[_P_GAP])
-    filled, last, n0, _, ended = _axis_run(classes, g0, g0, ua, vb, uta, vta, int(vb) - 1, fill, gap, 1)
-    n1 = 0
-    if g1 != g0:
-        filled1, last1, m1, _, ended1 = _axis_run(classes, g1, g1, ua, vb, uta, vta, int(vb) - 1, fill, gap, 1)
-        if m1 > n0:
-            gs, filled, last, n0, n1, ended = g1, filled1, last1, 0, m1, ended1
-    share = (n0 + n1) / max(visible, 1e-9)
-    band = max(1.0, 0.6 * min(w_exp, (i1 - i0 + 1.0) if ua != uc else w_exp))
-    bf, col_min = _band_fill(classes, gs, gs, ua, vb, uta, vta, last, band)
-    code = 0
-    vtop = vb - visible
-    # the visible part must reach min_height up the post (less, as 1 / distance, beyond
-    # min_height_range): near the camera a line seen along the axis looks like a post's foot
-    dist = math.hypot(xc - cam[9], yc - cam[10])
-    _, vh, okh = pixel_nb(cam, xc, yc, prm[_P_HEIGHT] * min(1.0, prm[_P_HRANGE] / max(dist, 1e-9)))
-    if g1 != g0:  # two goal colours: a corner pole has bands of both, its lowest one pole_band high
-        _, vp, okp = pixel_nb(cam, xc, yc, prm[_P_POLE])
-        if ended == g0 + g1 - gs or not okp or vp < vtop + 3.0:  # 3 px: room to see the next band
-            okh = False
-    if not filled or vb - last < prm[_P_LEN] or not okh or vh < vtop - 0.5:
-        code = 2  # too little of the post in view (a line seen along the axis looks the same)
-    elif bf < prm[_P_BAND] or col_min < prm[_P_COL]:
-        code = 3
-    elif math.hypot(xc, yc) > prm[_P_DMAX]:
-        code = 4
-    else:
-        # only the part below a robot's height in view: a robot's legs would pass as well,
-        # unless the goal-coloured rows of the lower half are no wider than a post
-        _, vr, okr = pixel_nb(cam, xc, yc, prm[_P_ROBOT])
-        if not okr or vr < vtop - 0.5:
-            w_med = _row_widths(classes, gs, gs, ua, vb, uta, vta, 0.5 * (vb + last), int(4.0 * w_exp + 8.0))
-            if w_med > prm[_P_WHI] * w_exp + prm[_P_SLACK]:
-                code = 6
-    return code, bf, share, vb, xc, yc, ut, vt, n0, n1, float(last), col_min
-
-
-@nb.njit(cache=True)
-def _search(
-    classes: NDArray[np.uint8],
-    cam: NDArray[np.float64],
-    feet: NDArray[np.float64],
-    g0: int,
-    g1: int,
-    a: int,
-    e: int,
-    lo: float,
-    hi: float,
-    w_exp: float,
-    r: float,
-    goal_h: float,
-    prm: NDArray[np.float64],
-) -> tuple[_Check, float]:  # pragma: no cover - compiled
-    """The post centred between columns ``lo`` and ``hi`` (1 px steps) over the candidate
-    columns a..e: of the centres that pass :func:`_check_axis`, the middle of those whose foot
-    is lowest (a post stands in front of its net). Returns the check and the centre."""
-    best_v = -1.0
-    first_u = 0.0
-    last_u = 0.0
-    for q in range(int(hi - lo) + 1):
-        uq = lo + q
-        i0 = min(e, max(a, int(uq - 0.5 * w_exp)))
-        i1 = max(i0, min(e, int(uq + 0.5 * w_exp)))
-        rq = _check_axis(classes, cam, feet, g0, g1, uq, uq, i0, i1, r, goal_h, prm)
-        if rq[0] != 0:
-            continue
-        if rq[3] > best_v + 0.5:
-            best_v = rq[3]
-            first_u = uq
-            last_u = uq
-        elif rq[3] >= best_v - 0.5:
-            last_u = uq
-    if best_v < 0.0:
-        return (3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0), lo
-    uc = 0.5 * (first_u + last_u)
-    i0 = min(e, max(a, int(uc - 0.5 * w_exp)))
-    i1 = max(i0, min(e, int(uc + 0.5 * w_exp)))
-    return _check_axis(classes, cam, feet, g0, g1, uc, uc, i0, i1, r, goal_h, prm), uc
-
-
-@nb.njit(cache=True)
-def _columns(
-    classes: NDArray[np.uint8],
-    boundary: NDArray[np.int32],
-    cam: NDArray[np.float64],
-    g0: int,
-    g1: int,
-    r: float,
-    goal_h: float,
-    prm: NDArray[np.float64],
-) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:  # pragma: no cover - compiled
-    """The column histogram: whether a post standing at the foot found above the field
-    boundary of each column would be goal-coloured up its axis (``min_fill`` of its visible
-    length), and that foot row (-1 where not)."""
-    height, width = classes.shape
-    gap, line_gap, reach = int(prm[_P_GAP]), int(prm[_P_LINE]), int(prm[_P_REACH])
-    fill, min_len = prm[_P_FILL], prm[_P_LEN]
-    cand = np.zeros(width, dtype=np.bool_)
-    feet = np.full(width, -1.0)
-    foot_gap = int(prm[_P_FOOT])
-    for u in range(width):
-        b = boundary[u]
-        if b <= 0 or b >= height:
-            continue
-        start = b - 1
-        stop = max(b - reach, 0)
-        tries = 0
-        while start >= stop:  # a line between a post's foot and the boundary ends a run early
-            j0, vf = _foot(classes, u, start, stop, g0, g1, line_gap, foot_gap)
-            if j0 < 0:
-                break
-            vb = float(vf)
-            ok, _, _, ut, vt, _ = _post_at(cam, u + 0.5, vb, r, goal_h)
-            if not ok:
-                break
-            visible = vb - _visible_top(u + 0.5, vb, ut, vt, width)
-            if visible < min_len:
-                break
-            c0 = int(classes[j0, u])  # one colour per post
-            step = max(1, int(visible / _SAMPLES))  # a candidate test: enough samples
-            filled, last, _, _, _ = _axis_run(classes, c0, c0, u + 0.5, vb, ut, vt, j0 - 1, fill, gap, step)
-            if filled:
-                cand[u] = True
-                feet[u] = vb
-                break
-            tries += 1
-            if tries >= 2:
-                break
-            start = last - 1
-    return cand, feet
-
-
-@nb.njit(cache=True)
-def _intervals(
-    classes: NDArray[np.uint8],
-    cam: NDArray[np.float64],
-    cand: NDArray[np.bool_],
-    feet: NDArray[np.float64],
-    g0: int,
-    g1: int,
-    r: float,
-    goal_h: float,
-    prm: NDArray[np.float64],
-) -> tuple[NDArray[np.int64], NDArray[np.int64]]:  # pragma: no cover - compiled
-    """The candidates: runs of candidate columns (one-column gaps bridged), first and last
-    column. Two runs are one post standing on a line seen along its length (white goals: the
-    line's columns have no foot) when the gap between them is goal-coloured just above their
-    feet and narrower than the post."""
-    width = classes.shape[1]
-    starts = np.empty(width, dtype=np.int64)
-    ends = np.empty(width, dtype=np.int64)
-    n = 0
-    u = 0
-    while u < width:
-        if not cand[u]:
-            u += 1
-            continue
-        a = u
-        e = u
-        while e + 1 < width and (cand[e + 1] or (e + 2 < width and cand[e + 2])):
-            e += 1 if cand[e + 1] else 2
-        u = e + 1
-        if n > 0:
-            pa, pe = starts[n - 1], ends[n - 1]
-            row = int(min(feet[pe], feet[a])) - 2
-            ok, _, _, _, _, w_exp = _post_at(cam, 0.5 * (pa + e + 1), max(feet[pe], feet[a]), r, goal_h)
-            if ok and row >= 0 and a - pe - 1 <= 0.75 * w_exp and e - pa + 1 <= prm[_P_WHI] * w_exp + prm[_P_SLACK]:
-                filled = 0
-                for i in range(pe + 1, a):
-                    if _is_goal(classes[row, i], g0, g1):
-                        filled += 1
-                if filled >= 0.8 * (a - pe - 1):
-                    ends[n - 1] = e
-                    continue
-        starts[n] = a
-        ends[n] = e
-        n += 1
-    return starts[:n], ends[:n]
+# -- compiled driver --------------------------------------------------------------------------
 
 
 @nb.njit(cache=True)
