@@ -48,6 +48,7 @@ from cognition.vision.boundary import field_boundary
 from cognition.vision.colour import ColourClassifier
 from cognition.vision.crossings import crossings_nb
 from cognition.vision.dnt import dnt_lines_nb, ground_points_nb
+from cognition.vision.goals import cut_behind_nb, goal_lines_nb
 from cognition.vision.hough import hough_lines
 from cognition.vision.image import VisionError, as_rgb, check_camera
 from cognition.vision.marks import loose_points_nb, marks_nb
@@ -160,6 +161,17 @@ class Vision:
             # penalty-mark seeds: scanline points that lie on no line and not on the circle
             points = line_points_nb(classes, boundary, cam, step, dims.line_width, gap)
             loose = loose_points_nb(points, seg_px, cam, cx, cy, radius, p.circle_inlier, 3.0 * scale)
+        sa, sb = sigmas(
+            p.sigma_alpha_base, p.sigma_beta_base, p.c_tilt, p.c_pan, p.sigma_alpha_moving, p.sigma_beta_moving,
+            head_pitch_rate, head_yaw_rate, walking,
+        )  # fmt: skip
+        goals = self._goal_classes if own_goal == 0 else self._goal_classes[::-1]
+        posts = detect_posts(classes, boundary, cam, goals, dims.goal_post_diameter, dims.goal_height, p.posts, sa, sb)
+        if len(posts):  # nothing behind a seen goal line is a field line
+            goal_lines = goal_lines_nb(posts, seg_ground, dims.goal_inner_width + dims.goal_post_diameter)
+            seg_px, seg_ground, open_ends = cut_behind_nb(
+                seg_px, seg_ground, open_ends, goal_lines, cam, p.goal_behind, p.min_line_length
+            )
         cross = crossings_nb(
             seg_ground, open_ends, classes, boundary, cam, p.crossing_margin, p.crossing_margin_in, p.crossing_beyond,
             p.crossing_angle, p.crossing_min_arm, 0.3, p.merge_angle, p.merge_offset, p.merge_gap, p.crossing_max_mpp,
@@ -171,15 +183,8 @@ class Vision:
             max(1, round(p.mark_min_px * scale)),
         )  # fmt: skip
         self.debug = VisionDebug(classes, boundary, points, seg_px, seg_ground)
-        sa, sb = sigmas(
-            p.sigma_alpha_base, p.sigma_beta_base, p.c_tilt, p.c_pan, p.sigma_alpha_moving, p.sigma_beta_moving,
-            head_pitch_rate, head_yaw_rate, walking,
-        )  # fmt: skip
         tables: list[NDArray[np.float64]] = [_EMPTY] * N_KINDS
-        goals = self._goal_classes if own_goal == 0 else self._goal_classes[::-1]
-        tables[Kind.POST] = detect_posts(
-            classes, boundary, cam, goals, dims.goal_post_diameter, dims.goal_height, p.posts, sa, sb
-        )
+        tables[Kind.POST] = posts
         tables[Kind.CROSS] = crossing_rows_nb(cross, cam, sa, sb)
         tables[Kind.BALL] = detect_ball(
             rgb, classes, boundary, cam, dims.ball_diameter / 2, self._modern_ball, p.ball, sa, sb
