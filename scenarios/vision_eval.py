@@ -10,8 +10,9 @@ report detection rates and errors the same way: per feature type, against hand l
 **Frames.** A seeded generator (``--seed``) draws every frame's scene; the image effects draw
 from a second generator split from the same seed, so ``--images`` (and ``--motion``) never
 change the scenes, and frame ``k`` is the same for every ``--frames`` above ``k``. The
-observer (team 0, player 1, team frame = world frame) stands anywhere on the carpet up to
-``border`` beyond the lines (not inside a goal), facing anywhere, head yaw uniform in ``±head_yaw``, pitch
+observer (team 0, player 1, team frame = world frame) stands anywhere between the goal lines
+and up to ``border`` beyond the touchlines (where robots play, and where penalised robots
+wait), facing anywhere, head yaw uniform in ``±head_yaw``, pitch
 uniform in [``pitch_low``, ``pitch_high``], the lower camera in a ``lower_camera`` share of the
 frames. The ball lies ``ball_near``..``ball_far`` ahead within the view in a ``ball_ahead``
 share of the frames, anywhere on the carpet otherwise; 0..``max_robots`` other robots of both
@@ -23,7 +24,7 @@ in half the frames (blur, rolling shutter and the percepts' sigmas follow).
 ======================  =========  ============  ===================================================
 FrameParams             default    range         meaning
 ======================  =========  ============  ===================================================
-border                  0.3 m      [0, 0.7]      how far beyond the field lines the observer stands
+border                  0.3 m      [0, 0.7]      how far beyond the touchlines the observer stands
 head_yaw                1.2 rad    [0, 2.1]      head yaw is uniform in ±head_yaw
 pitch_low               -0.1 rad   [-0.7, 0.5]   smallest head pitch (rad, + looks down)
 pitch_high              0.45 rad   [-0.7, 0.5]   largest head pitch
@@ -176,7 +177,7 @@ def make_frames(
 
 
 def _frame(k: int, rng: np.random.Generator, fld: Field, p: FrameParams, motion: bool, hfov: float) -> EvalFrame:
-    lx, ly = fld.half_length + p.border, fld.half_width + p.border
+    lx, ly = fld.half_length, fld.half_width + p.border
     cx, cy = fld.half_length + fld.dims.border_strip - 0.15, fld.half_width + fld.dims.border_strip - 0.15
     goal_y = fld.dims.goal_inner_width / 2 + fld.dims.goal_post_diameter + 0.15
 
