@@ -43,8 +43,8 @@ its arms, so a crossing counts for recall only when the image shows it: the firs
 ``crossing_arm`` metres of every arm lie inside the image (with the margin), span at least
 ``crossing_arm_px`` pixels (a T whose bar goes on for two pixels past its stem looks like an
 L), are not behind a nearer robot or goal post (their annotated boxes), and are wide enough
-to be seen as a line there (the field's line width projects to at least ``line_min_width_px``
-across the arm, so that at least one pixel is covered by the line alone: narrower lines
+to be seen as a line there (the field's line width projects to at least ``line_min_width_px`` across the arm's
+image, so that at least one pixel is covered by the line alone: narrower lines
 blend with the carpet; at 320 x 240 a line across the view from 0.5 m of camera height
 shrinks below 2 px at about 2 m, a line along the view at about 7 m). A crossing whose arms
 leave the image at once, hide behind a robot or blur into the carpet is counted in
@@ -140,7 +140,7 @@ class EvalParams:
     ball_distance: float = 4.0
     crossing_arm: float = 0.2
     crossing_arm_px: float = 6.0
-    line_min_width_px: float = 2.0
+    line_min_width_px: float = 1.5
 
     RANGES: ClassVar[Ranges] = {
         "crossing_px": positive(100.0),
@@ -385,6 +385,15 @@ def _point_tally(
     return t
 
 
+def _thickness(along: NDArray[np.float64], across: NDArray[np.float64]) -> float:
+    """The image thickness (px) of a line whose image direction is ``along`` and whose two edges
+    are ``across`` apart: the part of ``across`` perpendicular to ``along``."""
+    n = float(np.hypot(*along))
+    if n < 1e-9:
+        return float(np.hypot(*across))
+    return abs(float(along[0] * across[1] - along[1] * across[0])) / n
+
+
 def crossings_classifiable(
     ann: ImageAnnotations,
     scene: Scene,
@@ -434,7 +443,7 @@ def crossings_classifiable(
             u, v = uv[0]
             if not (
                 front.all() and margin <= u <= s.width - margin and margin <= v <= s.height - margin
-                and float(np.hypot(*(uv[1] - uv[2]))) >= p.line_min_width_px * s.width / BASE_WIDTH
+                and _thickness(uv[0] - junction, uv[1] - uv[2]) >= p.line_min_width_px * s.width / BASE_WIDTH
                 and float(np.hypot(*(uv[0] - junction))) >= p.crossing_arm_px * s.width / BASE_WIDTH
             ):  # fmt: skip
                 out[c] = False
