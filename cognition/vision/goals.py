@@ -8,8 +8,10 @@ found, the goal line is known: it runs through the bases of two posts of one goa
 goal's width apart), or, with one post, along the longest detected line that passes through
 the post's base and goes on to both sides of it (the net's side bar ends at the post). No
 field line lies behind a goal line, so every line segment is cut at ``behind`` metres beyond
-it (the side away from the robot) and dropped when nothing long
-enough is left; the goal line itself and the lines that end on it stay.
+it (the side away from the robot) and dropped when nothing long enough is left; the goal
+line itself and the lines that end on it stay. Crossings within ``clearance`` of a post's
+base are dropped too: the post's foot and the net's frame meet the goal line there (the
+nearest field junction, the goal area's corner, is 0.3 m away).
 
 Ground points: robot frame, metres (the robot stands on the field side of the goal line).
 Segments: image end points S x 4 (u1, v1, u2, v2) and ground end points S x 4 (x1, y1, x2,
@@ -116,3 +118,18 @@ def cut_behind_nb(
         if keep[k] and math.hypot(gr[k, 2] - gr[k, 0], gr[k, 3] - gr[k, 1]) < min_length:
             keep[k] = False
     return px[keep], gr[keep], op[keep]
+
+
+@nb.njit(cache=True)
+def clear_of_posts_nb(
+    cross: NDArray[np.float64], posts: NDArray[np.float64], clearance: float
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """The crossings (C x >=2, robot frame) farther than ``clearance`` metres from every post
+    base (P x >=2): where a post stands on the goal line, its foot and the net's frame meet the
+    line in junctions no field map has."""
+    keep = np.ones(cross.shape[0], dtype=np.bool_)
+    for k in range(cross.shape[0]):
+        for q in range(posts.shape[0]):
+            if math.hypot(cross[k, 0] - posts[q, 0], cross[k, 1] - posts[q, 1]) <= clearance:
+                keep[k] = False
+    return cross[keep]

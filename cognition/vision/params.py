@@ -35,6 +35,7 @@ merge_offset            0.06 m           (0, 5]         pieces of one line: offs
 merge_gap               0.8 m            [0, 10]        ... and gap between them (SPL lines never continue one
                                                         another across a gap)
 goal_behind             0.05 m           [0, 5]         lines are cut this far behind a seen goal line (:mod:`.goals`)
+post_clearance          0.2 m            [0, 5]         no crossing this close to a seen post's base
 circle_cell             0.05 m           (0, 1]         vote grid of the centre circle (NimbRo: 6 cm)
 circle_directions       32               [4, 360]       votes per point on the ring
 circle_inlier           0.08 m           (0, 1]         distance from the circle of its points
@@ -108,6 +109,7 @@ class VisionParams:
     merge_offset: float = 0.06
     merge_gap: float = 0.8
     goal_behind: float = 0.05
+    post_clearance: float = 0.2
     circle_cell: float = 0.05
     circle_directions: int = 32
     circle_inlier: float = 0.08
@@ -143,6 +145,7 @@ class VisionParams:
         "merge_offset": positive(5.0),
         "merge_gap": non_negative(10.0),
         "goal_behind": non_negative(5.0),
+        "post_clearance": non_negative(5.0),
         "crossing_angle": Range(0.0, math.pi / 4, low_open=True),
         "crossing_min_arm": positive(10.0),
         "crossing_max_mpp": positive(10.0),

@@ -6,7 +6,8 @@ class image below the field boundary; "dark" is carpet green (at most ``max_gap`
 anything else between the green and the white, for blurred edges), and a run counts only if
 its length fits a painted line: at most about twice the width a line of the field's line
 width has at that pixel (from the camera matrix), so that robots' white bodies, the modern
-goals' posts and large white blobs do not become line points.
+goals' posts and large white blobs do not become line points, and at least about half of it,
+so that the strands of a goal's net (much thinner than a line) do not either.
 
 A point is ``(u, v, run, direction)``: pixel centre of the run, its length (px) and 0 for a
 vertical scan (a column), 1 for a horizontal one (a row).
@@ -49,7 +50,7 @@ def _accept(
     if not np.isfinite(m) or m <= 0.0:
         return False
     expected = width / m
-    return run <= 2.0 * expected + 2.0 and run >= 0.25 * expected - 1.0
+    return run <= 2.0 * expected + 2.0 and run >= 0.5 * expected - 0.5
 
 
 @nb.njit(cache=True)

@@ -48,7 +48,7 @@ from cognition.vision.boundary import field_boundary
 from cognition.vision.colour import ColourClassifier
 from cognition.vision.crossings import crossings_nb
 from cognition.vision.dnt import dnt_lines_nb, ground_points_nb
-from cognition.vision.goals import cut_behind_nb, goal_lines_nb
+from cognition.vision.goals import clear_of_posts_nb, cut_behind_nb, goal_lines_nb
 from cognition.vision.hough import hough_lines
 from cognition.vision.image import VisionError, as_rgb, check_camera
 from cognition.vision.marks import loose_points_nb, marks_nb
@@ -176,6 +176,8 @@ class Vision:
             seg_ground, open_ends, classes, boundary, cam, p.crossing_margin, p.crossing_margin_in, p.crossing_beyond,
             p.crossing_angle, p.crossing_min_arm, 0.3, p.merge_angle, p.merge_offset, p.merge_gap, p.crossing_max_mpp,
         )  # fmt: skip
+        if len(posts):
+            cross = clear_of_posts_nb(cross, posts, p.post_clearance)
         if math.isfinite(cx):
             cross = _circle_crossings_nb(cross, cx, cy, radius, seg_ground, cam, p.max_distance)
         marks = marks_nb(
