@@ -30,6 +30,10 @@ crossing_beyond         0.1 m            (0, 5]         the image is read this f
 crossing_angle          20 deg           (0, pi/4]      allowed deviation from a right angle
 crossing_min_arm        0.15 m           (0, 10]        shortest line that forms a crossing
 crossing_max_mpp        0.08 m           (0, 10]        ground metres per pixel along a line at a junction
+crossing_max_distance   3.5 m            (0, 100]       farther junctions are not reported: a line across the view
+                                                        is thinner than 1.5 px beyond about 3 m at 320 x 240 (it
+                                                        thins with the square of the distance: the limit grows
+                                                        with the square root of the image width)
 merge_offset            0.06 m           (0, 5]         pieces of one line: offset from its carrier (+ 3 % of
                                                         the distance) ...
 merge_gap               0.8 m            [0, 10]        ... and gap between them (SPL lines never continue one
@@ -106,6 +110,7 @@ class VisionParams:
     crossing_angle: float = 20.0 * _DEG
     crossing_min_arm: float = 0.15
     crossing_max_mpp: float = 0.08
+    crossing_max_distance: float = 3.5
     merge_offset: float = 0.06
     merge_gap: float = 0.8
     goal_behind: float = 0.05
@@ -149,6 +154,7 @@ class VisionParams:
         "crossing_angle": Range(0.0, math.pi / 4, low_open=True),
         "crossing_min_arm": positive(10.0),
         "crossing_max_mpp": positive(10.0),
+        "crossing_max_distance": positive(100.0),
         "circle_cell": positive(1.0),
         "circle_directions": Range(4, 360),
         "circle_inlier": positive(1.0),

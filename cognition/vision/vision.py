@@ -176,6 +176,8 @@ class Vision:
             seg_ground, open_ends, classes, boundary, cam, p.crossing_margin, p.crossing_margin_in, p.crossing_beyond,
             p.crossing_angle, p.crossing_min_arm, 0.3, p.merge_angle, p.merge_offset, p.merge_gap, p.crossing_max_mpp,
         )  # fmt: skip
+        if len(cross):
+            cross = cross[np.hypot(cross[:, 0], cross[:, 1]) <= p.crossing_max_distance * math.sqrt(scale)]
         if len(posts):
             cross = clear_of_posts_nb(cross, posts, p.post_clearance)
         if math.isfinite(cx):
