@@ -132,7 +132,7 @@ def merge_collinear_nb(
 
 
 @nb.njit(cache=True)
-def _look(
+def look_nb(
     classes: NDArray[np.uint8], boundary: NDArray[np.int32], cam: NDArray[np.float64], x: float, y: float
 ) -> int:  # pragma: no cover - compiled
     """What the image shows at ground point (x, y): 1 white (the pixel or one of its four
@@ -171,7 +171,7 @@ def _continues(
     green = 0
     for q in range(3):
         t = start + (stop - start) * q / 2.0
-        c = _look(classes, boundary, cam, px + t * dx, py + t * dy)
+        c = look_nb(classes, boundary, cam, px + t * dx, py + t * dy)
         if c == 1:
             white += 1
         elif c == 0:
@@ -202,7 +202,7 @@ def _white_gap(
     seen = 0
     for q in range(n + 1):
         t = q / n
-        c = _look(classes, boundary, cam, ax + t * (bx - ax), ay + t * (by - ay))
+        c = look_nb(classes, boundary, cam, ax + t * (bx - ax), ay + t * (by - ay))
         if c >= 0:
             seen += 1
             white += c

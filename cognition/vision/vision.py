@@ -46,7 +46,7 @@ from cognition.percepts import N_COLS, N_KINDS, Kind, Percepts
 from cognition.vision.ball import detect_ball
 from cognition.vision.boundary import field_boundary
 from cognition.vision.colour import ColourClassifier
-from cognition.vision.crossings import crossings_nb
+from cognition.vision.crossings import crossings_nb, look_nb
 from cognition.vision.dnt import dnt_lines_nb, ground_points_nb
 from cognition.vision.goals import clear_of_posts_nb, cut_behind_nb, goal_lines_nb
 from cognition.vision.hough import hough_lines
@@ -54,7 +54,7 @@ from cognition.vision.image import VisionError, as_rgb, check_camera
 from cognition.vision.marks import loose_points_nb, marks_nb
 from cognition.vision.params import VisionParams
 from cognition.vision.posts import detect_posts
-from cognition.vision.projection import pixel_nb, sigmas
+from cognition.vision.projection import sigmas
 from cognition.vision.robots import detect_robots
 from cognition.vision.rows import crossing_rows_nb, line_rows_nb, point_rows_nb
 from cognition.vision.scanlines import line_points_nb
@@ -181,7 +181,7 @@ class Vision:
         if len(posts):
             cross = clear_of_posts_nb(cross, posts, p.post_clearance)
         if math.isfinite(cx):
-            cross = _circle_crossings_nb(cross, cx, cy, radius, seg_ground, cam, p.max_distance)
+            cross = _circle_crossings_nb(cross, cx, cy, radius, seg_ground, cam, p.max_distance, classes, boundary)
         marks = marks_nb(
             classes, points, loose, cam, dims.penalty_mark_size, p.mark_tolerance, p.mark_min_green,
             max(1, round(p.mark_min_px * scale)),
@@ -225,10 +225,11 @@ def _circle_crossings_nb(
     seg_ground: NDArray[np.float64],
     cam: NDArray[np.float64],
     max_distance: float,
+    classes: NDArray[np.uint8],
+    boundary: NDArray[np.int32],
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
     """``cross`` (C x 6) plus the X crossings where a line through the circle's centre (the
     halfway line) meets the circle; the circle's X replaces whatever the segments made there."""
-    width, height = cam[16], cam[17]
     extra = np.empty((2, 6))
     n_extra = 0
     for k in range(seg_ground.shape[0]):
@@ -241,8 +242,8 @@ def _circle_crossings_nb(
             continue
         for s in (-1.0, 1.0):
             px, py = cx + s * radius * dx, cy + s * radius * dy
-            u, v, ok = pixel_nb(cam, px, py, 0.0)
-            if ok and 0.0 <= u < width and 0.0 <= v < height and math.hypot(px, py) <= max_distance:
+            # it must be in view and on white (a robot may stand on it)
+            if look_nb(classes, boundary, cam, px, py) == 1 and math.hypot(px, py) <= max_distance:
                 extra[n_extra, 0] = px
                 extra[n_extra, 1] = py
                 extra[n_extra, 2] = 2.0
