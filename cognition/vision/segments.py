@@ -174,14 +174,15 @@ def _extend(
         p = best_p[m]
         if p < 0:
             break
+        # eq. 1 for the chain with p appended, about the chain's least-squares line (cheap: first)
+        e = _scatter_error(sums, pts[p, 0], pts[p, 1])
+        if e > tolerance * tolerance * (hi - lo + 1) or _off_line(sums, pts[p, 0], pts[p, 1]) > 2.0 * tolerance:
+            continue
         ratio = white_ratio_nb(classes, ex, ey, pts[p, 0], pts[p, 1])
         if ratio < min_white or ratio <= choice_ratio:
             continue
-        # eq. 1 for the chain with p appended, about the chain's least-squares line
-        e = _scatter_error(sums, pts[p, 0], pts[p, 1])
-        if e <= tolerance * tolerance * (hi - lo + 1) and _off_line(sums, pts[p, 0], pts[p, 1]) <= 2.0 * tolerance:
-            choice = p
-            choice_ratio = ratio
+        choice = p
+        choice_ratio = ratio
     return choice
 
 
@@ -282,8 +283,20 @@ def segments_nb(
     ends = np.zeros((n_seg, 4))
     alive = np.ones(n_seg, dtype=np.bool_)
     members = [np.empty(0, dtype=np.int64) for _ in range(0)]
+    sizes = np.zeros(n_seg + 1, dtype=np.int64)
+    for p in range(n):
+        if labels[p] >= 0:
+            sizes[labels[p] + 1] += 1
     for g in range(n_seg):
-        members.append(np.where(labels == g)[0])
+        sizes[g + 1] += sizes[g]
+    flat = np.empty(sizes[n_seg], dtype=np.int64)
+    fill = sizes[:n_seg].copy()
+    for p in range(n):  # the points of each chain, in increasing index as np.where gave them
+        if labels[p] >= 0:
+            flat[fill[labels[p]]] = p
+            fill[labels[p]] += 1
+    for g in range(n_seg):
+        members.append(flat[sizes[g] : sizes[g + 1]].copy())
         _fit(pts, members[g], ends[g])
     merged = True
     passes = 0
