@@ -151,19 +151,45 @@ def verify_circle_nb(
     cy: float,
     radius: float,
     samples: int,
+    line_width: float = 0.0,
+    blur_u: float = 0.0,
+    blur_v: float = 0.0,
 ) -> tuple:  # pragma: no cover - compiled
-    """(visible samples, share of them on white) of the circle projected into the image."""
+    """(visible samples, share of them on white) of the circle projected into the image.
+
+    With ``line_width`` (m) > 0, a sample counts as visible only where the ring's line would
+    show in this image: at least 1 px thick across its image direction, and smeared across it
+    by the motion blur (``blur_u`` along rows, ``blur_v`` along columns, px) by no more than
+    twice its thickness (a line smeared wider fades below the white threshold).
+    """
     height, width = classes.shape
     visible = 0
     white = 0
     for k in range(samples):
         a = 2.0 * math.pi * (k + 0.5) / samples
-        u, v, ok = pixel_nb(cam, cx + radius * math.cos(a), cy + radius * math.sin(a), 0.0)
+        ca, sa = math.cos(a), math.sin(a)
+        u, v, ok = pixel_nb(cam, cx + radius * ca, cy + radius * sa, 0.0)
         if not ok:
             continue
         i, j = int(u), int(v)
         if i < 1 or j < 1 or i >= width - 1 or j >= height - 1 or j < boundary[i]:
             continue
+        if line_width > 0.0:
+            h = 0.5 * line_width
+            u1, v1, ok1 = pixel_nb(cam, cx + (radius - h) * ca, cy + (radius - h) * sa, 0.0)
+            u2, v2, ok2 = pixel_nb(cam, cx + (radius + h) * ca, cy + (radius + h) * sa, 0.0)
+            ut, vt, ok3 = pixel_nb(cam, cx + radius * ca - 0.05 * sa, cy + radius * sa + 0.05 * ca, 0.0)
+            if not (ok1 and ok2 and ok3):
+                continue
+            tu, tv = ut - u, vt - v
+            tn = math.hypot(tu, tv)
+            if tn < 1e-9:
+                continue
+            nu, nv = -tv / tn, tu / tn  # the ring's image normal
+            thick = abs((u2 - u1) * nu + (v2 - v1) * nv)
+            smear = abs(blur_u * nu) + abs(blur_v * nv)
+            if thick < 1.0 or smear > 2.0 * thick:
+                continue
         visible += 1
         hit = False
         for dj in range(-1, 2):

@@ -57,6 +57,9 @@ def centre_circle_nb(
     min_points: int,
     min_span: float,
     min_coverage: float,
+    line_width: float,
+    blur_u: float,
+    blur_v: float,
 ) -> tuple[float, float, NDArray[np.bool_]]:  # pragma: no cover - compiled
     """The centre circle's centre (robot frame, m; NaN if none) and which points lie on it."""
     n = ground.shape[0]
@@ -67,8 +70,8 @@ def centre_circle_nb(
     cx, cy, _, _ = find_circle_nb(pts, radius, cell, directions, inlier, min_points, min_span)
     if not math.isfinite(cx):
         return math.nan, math.nan, on
-    seen, share = verify_circle_nb(classes, boundary, cam, cx, cy, radius, 64)
-    if seen < 16 or share < min_coverage:  # a quarter of the circle in view, mostly on white
+    seen, share = verify_circle_nb(classes, boundary, cam, cx, cy, radius, 64, line_width, blur_u, blur_v)
+    if seen < 12 or share < min_coverage:  # a fifth of the circle visibly in view, mostly on white
         return math.nan, math.nan, on
     for k in range(n):
         if valid[k] and abs(math.hypot(ground[k, 0] - cx, ground[k, 1] - cy) - radius) <= 1.5 * inlier:
@@ -90,21 +93,24 @@ def dnt_lines_nb(
     chain: NDArray[np.float64],
     min_line_length: float,
     probe: int,
+    blur_u: float,
+    blur_v: float,
 ) -> tuple:  # pragma: no cover - compiled
     """Lines of one class image by the DNT method (module docstring).
 
     ``circle`` holds the centre-circle parameters (cell, directions, inlier, min points, min
     span, min coverage), ``chain`` the chaining parameters in pixels of this image (gap,
-    tolerance, min white, min points, merge angle). Returns ``(points, seg_px, seg_ground,
+    tolerance, min white, min points, merge angle), ``blur_u``, ``blur_v`` the motion blur
+    (px) along image rows and columns. Returns ``(points, seg_px, seg_ground,
     open_ends, cx, cy, loose)``: line points K x 4 (u, v, run, direction), segments in the
     image and on the ground (S x 4), open ends (S x 2), the circle's centre (NaN if none) and
     which points lie neither on the circle nor in a segment (penalty-mark seeds).
     """
-    points = line_points_nb(classes, boundary, cam, step, line_width, edge_gap)
+    points = line_points_nb(classes, boundary, cam, step, line_width, edge_gap, blur_u, blur_v)
     ground, valid = ground_points_nb(cam, points, max_distance)
     cx, cy, on_circle = centre_circle_nb(
         ground, valid, classes, boundary, cam, radius, circle[0], int(circle[1]), circle[2], int(circle[3]),
-        circle[4], circle[5],
+        circle[4], circle[5], line_width, blur_u, blur_v,
     )  # fmt: skip
     free = valid & ~on_circle
     idx = np.flatnonzero(free)

@@ -14,6 +14,9 @@ posts                   PostParams()                    goal posts (:mod:`.posts
 ball                    BallParams()                    the ball (:mod:`.ball`)
 obstacles               ObstacleParams()                robots as obstacles (:mod:`.robots`)
 robot_radius            0.14 m           (0, 1]         robots' body radius (their centre lies behind the feet)
+exposure                0.008 s          [0, 0.2]       the camera's shutter time: head rates blur lines by
+                                                        rate x focal length x exposure pixels
+walking_blur            1 px             [0, 100]       vertical shake of the image while walking (px at 320)
 scan_step               4 px             [1, 64]        scanline spacing (DNT: every 5-10 px)
 boundary_run            6 px             [1, 100]       green run that starts the field (DNT 3.4), at 240 rows
 edge_gap                3 px             [1, 20]        pixels allowed between green and a line's white
@@ -94,6 +97,8 @@ class VisionParams:
     ball: BallParams = field(default_factory=BallParams)
     obstacles: ObstacleParams = field(default_factory=ObstacleParams)
     robot_radius: float = 0.14
+    exposure: float = 0.008
+    walking_blur: float = 1.0
     scan_step: int = 4
     boundary_run: int = 6
     edge_gap: int = 3
@@ -134,6 +139,8 @@ class VisionParams:
 
     RANGES: ClassVar[Ranges] = {
         "robot_radius": positive(1.0),
+        "exposure": non_negative(0.2),
+        "walking_blur": non_negative(100.0),
         "scan_step": Range(1, 64),
         "boundary_run": Range(1, 100),
         "edge_gap": Range(1, 20),

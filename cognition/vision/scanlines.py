@@ -7,7 +7,9 @@ anything else between the green and the white, for blurred edges), and a run cou
 its length fits a painted line: at most about twice the width a line of the field's line
 width has at that pixel (from the camera matrix), so that robots' white bodies, the modern
 goals' posts and large white blobs do not become line points, and at least about half of it,
-so that the strands of a goal's net (much thinner than a line) do not either.
+so that the strands of a goal's net (much thinner than a line) do not either. Motion blur
+while the head turns widens a line by the blur length (px) along the scan, which the caller
+knows from the head rates and the exposure, and the upper limit grows by it.
 
 A point is ``(u, v, run, direction)``: pixel centre of the run, its length (px) and 0 for a
 vertical scan (a column), 1 for a horizontal one (a row).
@@ -43,14 +45,14 @@ def _green_within(classes: NDArray[np.uint8], j: int, i: int, dj: int, di: int, 
 
 @nb.njit(cache=True)
 def _accept(
-    cam: NDArray[np.float64], u: float, v: float, run: int, vertical: bool, width: float
+    cam: NDArray[np.float64], u: float, v: float, run: int, vertical: bool, width: float, blur: float
 ) -> bool:  # pragma: no cover
     mv, mu = metres_per_pixel_nb(cam, u, v)
     m = mv if vertical else mu
     if not np.isfinite(m) or m <= 0.0:
         return False
     expected = width / m
-    return run <= 2.0 * expected + 2.0 and run >= 0.5 * expected - 0.5
+    return run <= 2.0 * expected + 2.0 + blur and run >= 0.5 * expected - 0.5
 
 
 @nb.njit(cache=True)
@@ -61,8 +63,11 @@ def line_points_nb(
     step: int,
     line_width: float,
     max_gap: int,
+    blur_u: float,
+    blur_v: float,
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """All line points of the vertical and horizontal scanlines (module docstring), K x 4."""
+    """All line points of the vertical and horizontal scanlines (module docstring), K x 4;
+    ``blur_u`` and ``blur_v`` are the motion blur lengths (px) along rows and columns."""
     height, width = classes.shape
     cap = (width // step + 1) * height // 2 + (height // step + 1) * width // 2 + 16
     out = np.empty((cap, 4))
@@ -80,7 +85,7 @@ def line_points_nb(
             before = j0 == boundary[i] or _green_within(classes, j0 - 1, i, -1, 0, max_gap)
             after = j < height and _green_within(classes, j, i, 1, 0, max_gap)
             vm = 0.5 * (j0 + j)
-            if before and after and _accept(cam, i + 0.5, vm, run, True, line_width):
+            if before and after and _accept(cam, i + 0.5, vm, run, True, line_width, blur_v):
                 out[n, 0] = i + 0.5
                 out[n, 1] = vm
                 out[n, 2] = run
@@ -99,7 +104,7 @@ def line_points_nb(
             before = _green_within(classes, j, i0 - 1, 0, -1, max_gap)
             after = i < width and _green_within(classes, j, i, 0, 1, max_gap)
             um = 0.5 * (i0 + i)
-            if before and after and _accept(cam, um, j + 0.5, run, False, line_width):
+            if before and after and _accept(cam, um, j + 0.5, run, False, line_width, blur_u):
                 out[n, 0] = um
                 out[n, 1] = j + 0.5
                 out[n, 2] = run

@@ -148,18 +148,21 @@ class Vision:
         dims = self.field.dims
         radius = self.field.centre_circle.radius if self.field.centre_circle is not None else 0.0
         step, gap = max(1, round(p.scan_step * scale)), max(1, round(p.edge_gap * scale))
+        # motion blur (px) while the shutter is open: the image moves with the head (Darmstadt IV.B)
+        blur_u = abs(head_yaw_rate) * cam[12] * p.exposure
+        blur_v = abs(head_pitch_rate) * cam[13] * p.exposure + (p.walking_blur * scale if walking else 0.0)
         if p.method == "dnt":
             points, seg_px, seg_ground, open_ends, cx, cy, loose = dnt_lines_nb(
                 classes, boundary, cam, step, dims.line_width, gap, p.max_distance, radius, self._circle,
                 np.array([p.chain_gap * scale, p.chain_tolerance * scale, p.min_white, p.min_points, p.merge_angle]),
-                p.min_line_length, max(4, round(12 * scale)),
+                p.min_line_length, max(4, round(12 * scale)), blur_u, blur_v,
             )  # fmt: skip
         else:
             lines = hough_lines(classes, boundary, cam, dims.line_width, radius, p.hough)
             seg_px, seg_ground, open_ends = lines.seg_px, lines.seg_ground, lines.open_ends
             cx, cy = lines.circle
             # penalty-mark seeds: scanline points that lie on no line and not on the circle
-            points = line_points_nb(classes, boundary, cam, step, dims.line_width, gap)
+            points = line_points_nb(classes, boundary, cam, step, dims.line_width, gap, blur_u, blur_v)
             loose = loose_points_nb(points, seg_px, cam, cx, cy, radius, p.circle_inlier, 3.0 * scale)
         sa, sb = sigmas(
             p.sigma_alpha_base, p.sigma_beta_base, p.c_tilt, p.c_pan, p.sigma_alpha_moving, p.sigma_beta_moving,
