@@ -5,7 +5,8 @@ horizontal scanlines (:mod:`.scanlines`); they are projected to the ground (robo
 and those farther than ``max_distance`` dropped. The centre circle is looked for first
 (:mod:`.circle`, voting at the radius as NimbRo 5.2 does, then checked against the image),
 and its points are kept out of the lines; the remaining points are chained into straight
-segments in the image and merged (:mod:`.segments`, DNT Algorithm 1), which are finally
+segments in the image and merged (:mod:`.segments`, DNT Algorithm 1); chains that bend like the centre circle
+(its arcs when the circle was not found) are dropped, and the segments are finally
 extended along the white, projected to the ground and given real or open ends
 (:mod:`.ends`). The stages are compiled functions; this module strings them together in one
 compiled call so that a frame pays Python's call overhead once.
@@ -80,6 +81,66 @@ def centre_circle_nb(
 
 
 @nb.njit(cache=True)
+def arcs_nb(
+    ground: NDArray[np.float64], labels: NDArray[np.int64], n_seg: int, radius: float
+) -> NDArray[np.bool_]:  # pragma: no cover - compiled
+    """Which segments' points (``ground`` K x 2 robot frame, m; ``labels`` the segment of each
+    point or -1) bend like an arc of the centre circle: a parabola fits them clearly better than
+    a straight line, with a curvature between half and twice 1 / ``radius``. Pieces of a circle
+    that was not found are locally straight in the image and chain into short false lines."""
+    out = np.zeros(n_seg, dtype=np.bool_)
+    if radius <= 0.0:
+        return out
+    for g in range(n_seg):
+        idx = np.flatnonzero(labels == g)
+        n = idx.shape[0]
+        if n < 6:
+            continue
+        mx, my = 0.0, 0.0
+        for k in idx:
+            mx += ground[k, 0]
+            my += ground[k, 1]
+        mx /= n
+        my /= n
+        sxx = sxy = syy = 0.0
+        for k in idx:
+            dx, dy = ground[k, 0] - mx, ground[k, 1] - my
+            sxx += dx * dx
+            sxy += dx * dy
+            syy += dy * dy
+        th = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
+        ux, uy = math.cos(th), math.sin(th)
+        # d = a t^2 + b t + c by least squares (normal equations), and the straight line's rms
+        m = np.zeros((3, 3))
+        r = np.zeros(3)
+        t = np.empty(n)
+        d = np.empty(n)
+        line2 = 0.0
+        for q in range(n):
+            dx, dy = ground[idx[q], 0] - mx, ground[idx[q], 1] - my
+            t[q] = dx * ux + dy * uy
+            d[q] = -dx * uy + dy * ux
+            line2 += d[q] * d[q]
+            row = (t[q] * t[q], t[q], 1.0)
+            for i in range(3):
+                r[i] += row[i] * d[q]
+                for j in range(3):
+                    m[i, j] += row[i] * row[j]
+        if np.max(t) - np.min(t) < 0.3 or abs(np.linalg.det(m)) < 1e-12:
+            continue
+        a, b, c = np.linalg.solve(m, r)
+        quad2 = 0.0
+        for q in range(n):
+            e = d[q] - (a * t[q] * t[q] + b * t[q] + c)
+            quad2 += e * e
+        rms_line, rms_quad = math.sqrt(line2 / n), math.sqrt(quad2 / n)
+        kappa = abs(2.0 * a)
+        if 0.5 / radius <= kappa <= 2.0 / radius and rms_line > 0.01 and rms_line > 1.5 * rms_quad:
+            out[g] = True
+    return out
+
+
+@nb.njit(cache=True)
 def dnt_lines_nb(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -115,11 +176,19 @@ def dnt_lines_nb(
     free = valid & ~on_circle
     idx = np.flatnonzero(free)
     seg, labels = segments_nb(points[idx], classes, chain[0], chain[1], chain[2], int(chain[3]), chain[4])
+    arc = arcs_nb(ground[idx], labels, seg.shape[0], radius)
+    if arc.any():  # arcs of a circle not found are no lines (their points stay loose: no marks there)
+        keep = ~arc
+        remap = np.cumsum(keep) - 1
+        for k in range(labels.shape[0]):
+            if labels[k] >= 0:
+                labels[k] = remap[labels[k]] if keep[labels[k]] else -2
+        seg = seg[keep]
     seg_px, seg_ground, open_ends = segments_on_ground_nb(
         cam, seg, classes, boundary, min_line_length, max_distance, probe
     )
     loose = free.copy()
     for k in range(idx.shape[0]):
-        if labels[k] >= 0:
+        if labels[k] >= 0 or labels[k] == -2:
             loose[idx[k]] = False
     return points, seg_px, seg_ground, open_ends, cx, cy, loose
