@@ -70,7 +70,8 @@ foot_reach          16 px          [1, 200]       rows above the field boundary 
 foot_gap            1 px           [0, 20]        pixels allowed between a post and the carpet
 min_fill            0.75           [0, 1]         goal-coloured share of the visible part of a post
 max_gap             2 px           [0, 20]        misses in a row that end a post's run
-min_length          8 px           [1, 1000]      shortest visible post (foot to the run's top)
+min_length          8 px           [1, 1000]      shortest visible post (foot to the run's top) ...
+min_length_unique   4 px           [1, 1000]      ... where no line is goal-coloured (yellow goals)
 min_height          0.25 m         [0, 10]        height of the post that must be in view ...
 min_height_range    2.0 m          (0, 100]       ... within this distance (as 1 / distance beyond)
 robot_height        0.6 m          [0, 10]        below this height only, rows must be post-wide
@@ -92,7 +93,8 @@ max_distance        12.0 m         (0, 100]       posts farther away (on the gro
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from functools import cached_property
 from typing import ClassVar
 
 import numba as nb
@@ -104,7 +106,7 @@ from cognition.params import Range, Ranges, check_ranges, non_negative, positive
 from cognition.percepts import Col
 from cognition.vision.colour import Colour
 from cognition.vision.image import VisionError
-from cognition.vision.posts_check import _check_axis, _crossbar, _search
+from cognition.vision.posts_check import _candidate, _crossbar, _split
 from cognition.vision.posts_scan import (
     _N_PARAMS,
     _P_BAND,
@@ -119,6 +121,7 @@ from cognition.vision.posts_scan import (
     _P_HEIGHT,
     _P_HRANGE,
     _P_LEN,
+    _P_LEN_U,
     _P_LINE,
     _P_NMS,
     _P_POLE,
@@ -131,7 +134,6 @@ from cognition.vision.posts_scan import (
     _P_WMIN,
     _columns,
     _intervals,
-    _median_feet,
     _post_at,
 )
 from cognition.vision.projection import pixel_nb
@@ -148,6 +150,7 @@ class PostParams:
     min_fill: float = 0.75
     max_gap: int = 2
     min_length: float = 8.0
+    min_length_unique: float = 4.0
     min_height: float = 0.25
     min_height_range: float = 2.0
     robot_height: float = 0.6
@@ -162,9 +165,6 @@ class PostParams:
     pair_distance: tuple[float, float] = (1.0, 2.4)
     separation: float = 0.9
     max_distance: float = 12.0
-    packed: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-    """The parameters as the flat vector the compiled detector reads (pixels at 320 x 240)."""
-
     RANGES: ClassVar[Ranges] = {
         "line_gap": Range(0, 20),
         "foot_reach": Range(1, 200),
@@ -172,6 +172,7 @@ class PostParams:
         "min_fill": Range(0.0, 1.0),
         "max_gap": Range(0, 20),
         "min_length": Range(1.0, 1000.0),
+        "min_length_unique": Range(1.0, 1000.0),
         "min_height": non_negative(10.0),
         "min_height_range": positive(100.0),
         "robot_height": non_negative(10.0),
@@ -194,6 +195,11 @@ class PostParams:
             lo, hi = getattr(self, name)
             if lo > hi:
                 raise ValueError(f"PostParams.{name} must be (low, high) with low <= high, got {(lo, hi)!r}")
+
+    @cached_property
+    def packed(self) -> NDArray[np.float64]:
+        """The parameters as the flat vector the compiled detector reads (pixels at 320 x 240);
+        read-only, and not a field, so configurations stay plain data."""
         values = {
             _P_GAP: self.max_gap, _P_LINE: self.line_gap, _P_FILL: self.min_fill, _P_LEN: self.min_length,
             _P_WLO: self.width_range[0], _P_WHI: self.width_range[1], _P_SLACK: self.width_slack,
@@ -202,12 +208,13 @@ class PostParams:
             _P_REACH: self.foot_reach, _P_WMIN: self.min_width, _P_FOOT: self.foot_gap,
             _P_ROBOT: self.robot_height, _P_HEIGHT: self.min_height, _P_NMS: self.separation,
             _P_HRANGE: self.min_height_range, _P_COL: self.column_fill, _P_POLE: self.pole_band,
+            _P_LEN_U: self.min_length_unique,
         }  # fmt: skip
         packed = np.zeros(_N_PARAMS)
         for k, value in values.items():
             packed[k] = value
         packed.flags.writeable = False
-        object.__setattr__(self, "packed", packed)
+        return packed
 
 
 _MAX_CAND = 64
@@ -334,8 +341,9 @@ def _posts_nb(
     candidate: first and last column, projected diameter, foot row, band fill, run share,
     outcome (0 kept, 1 width, 2 too little in view, 3 band, 4 distance, 5 projection, 6 wider
     than a post), centre column, smallest column fill."""
-    width = classes.shape[1]
     prm = packed.copy()
+    if g0 != 2 and g1 != 2:  # no line is goal-coloured: a shorter piece of a post will do
+        prm[_P_LEN] = prm[_P_LEN_U]
     for k in (_P_LEN, _P_SLACK, _P_WMIN):
         prm[k] *= scale
     for k in (_P_GAP, _P_LINE, _P_REACH, _P_FOOT):
@@ -352,44 +360,27 @@ def _posts_nb(
     out_colour = np.empty(_MAX_CAND, dtype=np.int64)
     n = 0
     nd = 0
-    slack = prm[_P_SLACK]
     starts, ends = _intervals(classes, cam, cand, feet, g0, g1, r, goal_h, prm)
-    for q in range(starts.shape[0]):
-        if n >= _MAX_CAND:
-            break
-        a = starts[q]
-        e = ends[q]
-        um = 0.5 * (a + e + 1)
-        ok, _, _, _, _, w_exp = _post_at(cam, um, _median_feet(feet, a, e), r, goal_h)
-        measured = e - a + 1.0
-        left_edge = a <= 1
-        right_edge = e >= width - 2
-        w_lo = max(prm[_P_WMIN], prm[_P_WLO] * w_exp - slack)
-        w_hi = prm[_P_WHI] * w_exp + slack
-        code = 1
-        res = (5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0)
-        uc = um
-        if not ok:
-            code = 5
-        elif (left_edge or right_edge) and measured < w_exp:
-            # cut by the image edge: the centre is half a diameter from the visible edge and
-            # must be in the image (a post whose base centre is outside is not reported)
-            uc = e + 1.0 - 0.5 * w_exp if left_edge else a + 0.5 * w_exp
-            if measured >= max(prm[_P_WMIN], 0.25 * w_exp) and 0.0 <= uc < width:
-                res = _check_axis(classes, cam, feet, g0, g1, uc, um, a, e, r, goal_h, prm)
-                code = res[0]
-        elif w_lo <= measured <= 4.0 * w_exp + slack:
-            res = _check_axis(classes, cam, feet, g0, g1, um, um, a, e, r, goal_h, prm)
-            code = res[0] if measured <= w_hi else 1
-            if code != 0 and abs(measured - w_exp) > 1.0:
-                # part of a post (the rest stands on a line) or a post in front of a white net,
-                # robot or wall: the windows of one diameter that pass and stand lowest
-                if measured < w_exp:
-                    lo, hi = e + 1.0 - 0.5 * w_exp, a + 0.5 * w_exp
-                else:
-                    lo, hi = a + 0.5 * w_exp, e + 1.0 - 0.5 * w_exp
-                res, uc = _search(classes, cam, feet, g0, g1, a, e, lo, hi, w_exp, r, goal_h, prm)
-                code = res[0]
+    # a work list: the candidates, then the pieces of those that fail (split where their feet
+    # jump) and the rest of a wide run beside the post found in it (a second post behind)
+    cap = starts.shape[0] + 64
+    work = np.empty((cap, 2), dtype=np.int64)
+    nw = starts.shape[0]
+    work[:nw, 0], work[:nw, 1] = starts, ends
+    jump = max(1.0, 3.0 * scale)
+    q = -1
+    while q + 1 < nw and n < _MAX_CAND:
+        q += 1
+        a, e = work[q, 0], work[q, 1]
+        res, uc, w_exp, searched = _candidate(classes, cam, feet, g0, g1, a, e, r, goal_h, prm)
+        code = res[0]
+        if code != 0:
+            pieces = _split(cam, feet, a, e, r, goal_h, jump)
+            if pieces.shape[0] > 1:
+                for k in range(pieces.shape[0]):
+                    if nw < cap:
+                        work[nw, 0], work[nw, 1] = pieces[k, 0], pieces[k, 1]
+                        nw += 1
         if nd < dbg.shape[0]:
             dbg[nd, 0], dbg[nd, 1], dbg[nd, 2], dbg[nd, 3] = a, e, w_exp, res[3]
             dbg[nd, 4], dbg[nd, 5], dbg[nd, 6], dbg[nd, 7], dbg[nd, 8] = res[1], res[2], code, uc, res[11]
@@ -397,8 +388,15 @@ def _posts_nb(
         if code != 0:
             continue
         _, _, _, vb, xc, yc, ut, vt, n0, n1, last, _ = res
-        ok, _, _, _, _, w_exp = _post_at(cam, uc, vb, r, goal_h)
+        _, _, _, _, _, w_exp = _post_at(cam, uc, vb, r, goal_h)
+        if searched:  # the rest of the run beside the post
+            for lo, hi in ((a, int(uc - 0.5 * w_exp) - 1), (int(uc + 0.5 * w_exp) + 1, e)):
+                if hi - lo + 1.0 >= max(prm[_P_WMIN], prm[_P_WLO] * w_exp) and nw < cap:
+                    work[nw, 0], work[nw, 1] = lo, hi
+                    nw += 1
         ub, vbc, _ = pixel_nb(cam, xc, yc, 0.0)
+        if not (0.0 <= ub < classes.shape[1] and 0.0 <= vbc < classes.shape[0]):
+            continue  # the centre of its base is outside the image: not reported
         out_xy[n, 0], out_xy[n, 1] = xc, yc
         out_uv[n, 0], out_uv[n, 1] = ub, vbc
         vtop = max(last, vt)
