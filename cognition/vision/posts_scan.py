@@ -30,7 +30,8 @@ from cognition.vision.projection import ground_nb, pixel_nb
 _P_GAP, _P_LINE, _P_FILL, _P_LEN, _P_WLO, _P_WHI, _P_SLACK = 0, 1, 2, 3, 4, 5, 6
 _P_BAR, _P_THICK, _P_DLO, _P_DHI, _P_DMAX, _P_BAND, _P_REACH = 7, 8, 9, 10, 11, 12, 13
 _P_WMIN, _P_FOOT, _P_ROBOT, _P_HEIGHT, _P_NMS, _P_HRANGE, _P_COL, _P_POLE = 14, 15, 16, 17, 18, 19, 20, 21
-_N_PARAMS = 22
+_P_LEN_U = 22
+_N_PARAMS = 23
 _SAMPLES = 24
 """Samples along the axis of a post in the column histogram (a post checked as a candidate is
 walked pixel by pixel)."""
@@ -46,7 +47,8 @@ def _post_at(
     cam: NDArray[np.float64], u: float, v: float, r: float, goal_h: float
 ) -> tuple[bool, float, float, float, float, float]:  # pragma: no cover - compiled
     """A post whose front foot is seen at pixel (u, v): (ok, centre x, y, top pixel u, v,
-    projected diameter in pixels)."""
+    projected diameter in pixels). When the top is behind the camera, the "top" is a point of
+    the axis far above the image."""
     xf, yf, ok = ground_nb(cam, u, v, 0.0)
     if not ok:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -58,7 +60,17 @@ def _post_at(
     xc, yc = xf + r * ex, yf + r * ey
     ut, vt, okt = pixel_nb(cam, xc, yc, goal_h)
     if not okt:
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0
+        # the top is behind the camera (a post right in front of a camera looking down): the
+        # axis through a lower point, extended far beyond the image
+        ub, vb, okb = pixel_nb(cam, xc, yc, 0.0)
+        z = 0.5 * goal_h
+        while not okt and z > 0.01 * goal_h:
+            ut, vt, okt = pixel_nb(cam, xc, yc, z)
+            z *= 0.5
+        if not (okb and okt) or vb - vt < 1e-3:
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0
+        k = 1e4 / (vb - vt)
+        ut, vt = ut + k * (ut - ub), vt + k * (vt - vb)
     ua, _, oka = pixel_nb(cam, xc - r * ey, yc + r * ex, 0.0)
     ub, _, okb = pixel_nb(cam, xc + r * ey, yc - r * ex, 0.0)
     if not (oka and okb):
@@ -193,6 +205,50 @@ def _visible_top(ub: float, vb: float, ut: float, vt: float, width: int) -> floa
 
 
 @nb.njit(cache=True)
+def _column(
+    classes: NDArray[np.uint8],
+    cam: NDArray[np.float64],
+    u: int,
+    start: int,
+    stop: int,
+    g0: int,
+    g1: int,
+    r: float,
+    goal_h: float,
+    prm: NDArray[np.float64],
+) -> float:  # pragma: no cover - compiled
+    """The foot row of a post in column u whose foot lies between rows ``start`` and ``stop``
+    (searched upward, :func:`_foot`) and whose axis is goal-coloured (``min_fill`` of its
+    visible length), or -1. When the run up from a foot fails, the next foot above is tried
+    once (a line between a post's foot and the boundary ends a run early)."""
+    width = classes.shape[1]
+    gap, line_gap, foot_gap = int(prm[_P_GAP]), int(prm[_P_LINE]), int(prm[_P_FOOT])
+    fill, min_len = prm[_P_FILL], prm[_P_LEN]
+    tries = 0
+    while start >= stop:
+        j0, vf = _foot(classes, u, start, stop, g0, g1, line_gap, foot_gap)
+        if j0 < 0:
+            break
+        vb = float(vf)
+        ok, _, _, ut, vt, _ = _post_at(cam, u + 0.5, vb, r, goal_h)
+        if not ok:
+            break
+        visible = vb - _visible_top(u + 0.5, vb, ut, vt, width)
+        if visible < min_len:
+            break
+        c0 = int(classes[j0, u])  # one colour per post
+        step = max(1, int(visible / _SAMPLES))  # a candidate test: enough samples
+        filled, last, _, _, _ = _axis_run(classes, c0, c0, u + 0.5, vb, ut, vt, j0 - 1, fill, gap, step)
+        if filled:
+            return vb
+        tries += 1
+        if tries >= 2:
+            break
+        start = last - 1
+    return -1.0
+
+
+@nb.njit(cache=True)
 def _columns(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -205,42 +261,33 @@ def _columns(
 ) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:  # pragma: no cover - compiled
     """The column histogram: whether a post standing at the foot found above the field
     boundary of each column would be goal-coloured up its axis (``min_fill`` of its visible
-    length), and that foot row (-1 where not)."""
+    length), and that foot row (-1 where not). A column next to a candidate whose boundary
+    lies elsewhere (pushed down by the ball or a robot in front, or by a line seen along the
+    column) is searched for a foot within 3 px of its neighbour's, left to right and back."""
     height, width = classes.shape
-    gap, line_gap, reach = int(prm[_P_GAP]), int(prm[_P_LINE]), int(prm[_P_REACH])
-    fill, min_len = prm[_P_FILL], prm[_P_LEN]
+    reach = int(prm[_P_REACH])
     cand = np.zeros(width, dtype=np.bool_)
     feet = np.full(width, -1.0)
-    foot_gap = int(prm[_P_FOOT])
+    lines = g0 != 2 and g1 != 2
     for u in range(width):
         b = boundary[u]
         if b <= 0 or b >= height:
             continue
-        start = b - 1
-        stop = max(b - reach, 0)
-        tries = 0
-        while start >= stop:  # a line between a post's foot and the boundary ends a run early
-            j0, vf = _foot(classes, u, start, stop, g0, g1, line_gap, foot_gap)
-            if j0 < 0:
-                break
-            vb = float(vf)
-            ok, _, _, ut, vt, _ = _post_at(cam, u + 0.5, vb, r, goal_h)
-            if not ok:
-                break
-            visible = vb - _visible_top(u + 0.5, vb, ut, vt, width)
-            if visible < min_len:
-                break
-            c0 = int(classes[j0, u])  # one colour per post
-            step = max(1, int(visible / _SAMPLES))  # a candidate test: enough samples
-            filled, last, _, _, _ = _axis_run(classes, c0, c0, u + 0.5, vb, ut, vt, j0 - 1, fill, gap, step)
-            if filled:
-                cand[u] = True
-                feet[u] = vb
-                break
-            tries += 1
-            if tries >= 2:
-                break
-            start = last - 1
+        # a line seen along the column pushes the field boundary down to its near end: its
+        # rows (carpet where white is not a goal colour) do not use up the reach
+        top = b - 1
+        while lines and top > 0 and classes[top, u] == 2:
+            top -= 1
+        feet[u] = _column(classes, cam, u, b - 1, max(top + 1 - reach, 0), g0, g1, r, goal_h, prm)
+    for sweep in range(2):
+        for k in range(1, width):
+            u = k if sweep == 0 else width - 1 - k
+            n = u - 1 if sweep == 0 else u + 1
+            if feet[u] < 0.0 and feet[n] >= 0.0:
+                f = int(feet[n])
+                feet[u] = _column(classes, cam, u, min(f + 2, height - 1), max(f - 4, 0), g0, g1, r, goal_h, prm)
+    for u in range(width):
+        cand[u] = feet[u] >= 0.0
     return cand, feet
 
 
