@@ -80,7 +80,7 @@ dark_value          0.25     [0, 1]      modern: black is darker than this x the
 min_white           0.2      [0, 1]      modern: least share of WHITE or grey samples inside
 min_ring_green      0.3      [0, 1]      least share of GREEN on the ring below the ball
 max_ring_other      0.35     [0, 1]      largest share of the ring below neither GREEN nor WHITE
-max_ring_orange     0.25     [0, 1]      classic: largest share of ORANGE on the whole ring
+max_ring_orange     0.15     [0, 1]      classic: largest share of ORANGE on the whole ring
 max_tests           40       [1, 1000]   most centres fitted and verified per image (bounds the time)
 max_candidates      1        [1, 16]     balls reported per image, best first
 ==================  =======  ==========  ================================================================
@@ -121,7 +121,7 @@ class BallParams:
     min_white: float = 0.2
     min_ring_green: float = 0.3
     max_ring_other: float = 0.35
-    max_ring_orange: float = 0.25
+    max_ring_orange: float = 0.15
     max_tests: int = 40
     max_candidates: int = 1
 

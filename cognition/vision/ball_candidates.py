@@ -36,8 +36,10 @@ from cognition.vision.ball_fit import (
     _chord,
     _expected,
     _fit,
+    _in_string,
     _is_ball,
     _radius,
+    _run_end,
     _stretch,
     _thin,
 )
@@ -87,20 +89,22 @@ def _refine(
     a, b, ra, rb = _chord(rgb, classes, u, v, True, reach, modern)
     if ra and rb and b - a < r:
         return False, u, v, r, math.nan, math.inf  # a chord through the centre is a diameter: too thin
+    # an edge farther than a diameter from the seed (inside the ball) is not the ball's
+    near_a, near_b = ra and u - a <= 2.2 * r, rb and b - u <= 2.2 * r
     if ra and rb and b - a <= 3.2 * r:
         u = 0.5 * (a + b)
-    elif ra and not rb:
+    elif near_a and not rb:
         u = a + r
-    elif rb and not ra:
+    elif near_b and not ra:
         u = b - r
     a, b, ra, rb = _chord(rgb, classes, u, v, False, reach, modern)
     if ra and rb and b - a < r:
         return False, u, v, r, math.nan, math.inf
     if ra and rb and b - a <= 3.2 * r:
         v = 0.5 * (a + b)
-    elif rb:  # the lower edge meets the carpet: the ball sits on it
+    elif rb and b - v <= 2.2 * r:  # the lower edge meets the carpet: the ball sits on it
         v = b - r
-    elif ra:
+    elif ra and v - a <= 2.2 * r:
         v = a + r
     if _thin(classes, u, v, r, modern) or not _plausible(rgb, classes, u, v, r, modern, prm):
         return False, u, v, r, math.nan, math.inf
@@ -149,10 +153,7 @@ def _candidates(
     first = h
     for c in range(n_cols):
         i = i0 + c * step
-        b0 = int(boundary[i])
-        tops[c] = h
-        if b0 >= h:
-            continue
+        b0 = min(int(boundary[i]), h - 1)  # no carpet in the column: a ball may hide it at the bottom
         rb = _radius(cam, i + 0.5, float(b0), ball_r)
         pad = int(2.2 * rb) + 1 if math.isfinite(rb) else 0
         tops[c] = max(0, b0 - pad)
@@ -170,10 +171,13 @@ def _candidates(
                 if c % 3 != 0:
                     starts[c] = -1
         for c in range(0, n_cols, fine):
-            cl = classes[j, i0 + c * step] if j < h else GREEN  # below the image: every run ends
+            i = i0 + c * step
+            cl = classes[j, i] if j < h else GREEN  # below the image: every run ends
             if not lut[cl]:
                 if starts[c] < 0:
                     continue  # the common case: carpet, no run open
+                if not modern and cl != GREEN and j + rs < h and classes[j + rs, i] == ORANGE:
+                    continue  # classic: a net's string or noise across the ball
             elif j < tops[c]:
                 continue
             else:
@@ -187,9 +191,19 @@ def _candidates(
             starts[c] = -1
             if j - start < 2 * rs:
                 continue  # a single sample: balls this small are beyond the range
+            lo = start - half
+            bounded = start - rs >= tops[c]
+            top = False  # the run goes on to the image's top
+            if not bounded and not modern:  # it began where the column's scan begins: look above for its start
+                q, stop = start - 1, start - 2.2 * _radius(cam, i + 0.5, float(j), ball_r)
+                while q >= 0 and q >= stop and lut[classes[q, i]]:
+                    q -= 1
+                if q >= 0 and q >= stop:
+                    lo, bounded = q + 1.0, True
+                top = q < 0
             _run_end_seeds(
-                rgb, classes, boundary, cam, ball_r, modern, prm, st, i0 + c * step, start - half, j - half,
-                start - rs >= tops[c], j < h, darks[c],
+                rgb, classes, boundary, cam, ball_r, modern, prm, st, i, lo, j - half, bounded, j < h,
+                darks[c], top,
             )  # fmt: skip
         if j == h:
             break
@@ -308,33 +322,73 @@ def _run_end_seeds(
     bounded: bool,
     closed: bool,
     dark: int,
+    top: bool,
 ) -> None:  # pragma: no cover - compiled
     """Seeds from a run of ball pixels [lo, hi) (rows) in column ``i`` and the candidates they
     lead to. ``bounded``: the run began below a non-ball pixel; ``closed``: it ended above one
-    (not at the image's bottom); ``dark``: its last BLACK row.
+    (not at the image's bottom); ``dark``: its last BLACK row; ``top``: it goes on to the image's
+    top row.
 
     A run up to about a diameter long seeds its middle. A longer one, or one open at the top,
     seeds a centre one radius above its lower end and (if bounded) one below its upper end; the
     end of a run open at the top (the hall above a straight field boundary) seeds only where
-    the boundary dips or, modern, where the run's lower end holds black (a ball's patches in
-    front of a robot).
+    the boundary dips, classic where the image's top cuts the run (no hall above it) or, modern,
+    where black lies near its lower end (a ball's patches in front of a robot or the hall);
+    modern, a run open at both ends seeds one radius above the image's bottom when black lies
+    there.
     """
     u = i + 0.5
     mid = 0.5 * (lo + hi)
     r = _radius(cam, u, mid, ball_r)
-    if not (r >= prm[_MIN_R]) or hi - lo < prm[_MIN_RUN] * r:
+    if bounded and hi - lo <= 2.6 * r:
+        if r >= prm[_MIN_R] and hi - lo >= prm[_MIN_RUN] * r:
+            _try_seed(rgb, classes, cam, ball_r, modern, prm, st, u, mid)
         return
-    if hi - lo <= 2.6 * r and bounded:
-        _try_seed(rgb, classes, cam, ball_r, modern, prm, st, u, mid)
-        return
-    if closed and (bounded or _dip(boundary, i, int(hi + 0.5), r) or (modern and dark >= hi - 2.2 * r)):
-        rr = _radius(cam, u, hi - r, ball_r)
-        if rr >= 0.0:
+    # a ball resting on the lower end of the run (R there, not in the run's middle: an open run
+    # may reach above the horizon)
+    rr = _radius(cam, u, hi - _radius(cam, u, hi, ball_r), ball_r)
+    if closed and rr >= prm[_MIN_R] and hi - lo >= prm[_MIN_RUN] * rr:
+        if (
+            bounded or (top and not modern) or _dip(boundary, i, int(hi + 0.5), rr)
+            or (modern and (dark >= hi - 2.2 * rr or _black_near(classes, i, hi - rr, rr)))
+        ):  # fmt: skip
             _try_seed(rgb, classes, cam, ball_r, modern, prm, st, u, hi - rr)
+    elif not closed and not bounded and modern and rr >= prm[_MIN_R] and _black_near(classes, i, hi - rr, rr):
+        _try_seed(rgb, classes, cam, ball_r, modern, prm, st, u, hi - rr)  # cut by the image's bottom
     if bounded:
-        rr = _radius(cam, u, lo + r, ball_r)
-        if rr >= 0.0:
+        rr = _radius(cam, u, lo + _radius(cam, u, lo, ball_r), ball_r)
+        if rr >= prm[_MIN_R] and hi - lo >= prm[_MIN_RUN] * rr:
             _try_seed(rgb, classes, cam, ball_r, modern, prm, st, u, lo + rr)
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _black_disc(classes: NDArray[np.uint8], u: float, v: float, r: float) -> bool:  # pragma: no cover - compiled
+    """Modern: a BLACK pixel among the disc samples of radius r around (u, v) (a seed inside the
+    ball, not necessarily at its centre, sees a patch; the class is darker than the patches'
+    test in :func:`_content` asks for, relative to the carpet)."""
+    h, w = classes.shape
+    for k in range(_DISC.shape[0]):
+        i = math.floor(u + r * _DISC[k, 0])
+        j = math.floor(v + r * _DISC[k, 1])
+        if 0 <= i < w and 0 <= j < h and classes[j, i] == BLACK:
+            return True
+    return False
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _black_near(classes: NDArray[np.uint8], i: int, v: float, r: float) -> bool:  # pragma: no cover - compiled
+    """Modern: BLACK pixels (a ball's patches) on three rows across a disc of radius r centred
+    at column ``i``, row ``v`` (every quarter radius)."""
+    h, w = classes.shape
+    d = max(1, int(0.25 * r))
+    for dv in (-0.4, 0.0, 0.4):
+        j = math.floor(v + dv * r)
+        if not 0 <= j < h:
+            continue
+        for q in range(max(0, i - int(0.7 * r)), min(w, i + int(0.7 * r) + 1), d):
+            if classes[j, q] == BLACK:
+                return True
+    return False
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -369,6 +423,8 @@ def _try_seed(
         return
     st.n_seeds += 1
     st.add(su, sv, r0, False)
+    if modern and not _black_disc(classes, su, sv, r0):
+        return  # no black patch near: a robot, a post, a line or the hall (cheaper than the chords)
     ok, cu, cv, re, rad, rms = _refine(rgb, classes, cam, su, sv, r0, ball_r, modern, st.pts, st.used, st.keep, prm)
     if not ok or st.near(cu, cv, re, True):
         return
@@ -391,17 +447,22 @@ def _try_seed(
 @nb.njit(cache=True, error_model="numpy")
 def _content(
     rgb: NDArray[np.uint8], classes: NDArray[np.uint8], u: float, v: float, r: float, modern: bool, dark_value: float
-) -> tuple[int, float, float, float, int, float, float, float]:  # pragma: no cover - compiled
+) -> tuple[int, float, float, float, int, float, float, float, float]:  # pragma: no cover - compiled
     """What lies inside and around a ball of radius r centred at (u, v): (samples inside, share
     of ball pixels (classic: ORANGE or blended YELLOW, NaN if less than half ORANGE), share of
     black (darker than ``dark_value`` x the carpet on the ring), share of WHITE or grey, ring
     samples below the ball, their GREEN share, their share neither GREEN nor WHITE, ORANGE share
-    of the whole ring). Where the ring below is cut by the image edge the whole ring counts."""
+    of the whole ring, 1 if those other samples all lie at one end of the ring below (an
+    obstacle beside the ball) else 0). Where the ring below is cut by the image edge the samples
+    beside the ball count too, or else the whole ring (and the last value is NaN). Classic: a
+    net's strings across the ball count as ball."""
     h, w = classes.shape
     rr = 1.3 * r + 1.5
-    n_low = n_green = n_other = n_all = n_all_green = n_all_other = n_orange = 0
+    n_all = n_all_green = n_orange = 0
+    n = np.zeros((3, 3), dtype=np.int64)  # below, beside and below, all: samples, GREEN, other
+    lead = trail = 0  # other samples below before the first / after the last GREEN or WHITE one
     carpet = 0.0
-    for k in range(_RING.shape[0]):
+    for k in range(_RING.shape[0]):  # counter-clockwise from the right; v grows downward: sin > 0 is below
         i = math.floor(u + rr * _RING[k, 0])
         j = math.floor(v + rr * _RING[k, 1])
         if not (0 <= i < w and 0 <= j < h):
@@ -412,13 +473,28 @@ def _content(
         if c == GREEN:
             n_all_green += 1
             carpet += max(rgb[j, i, 0], rgb[j, i, 1], rgb[j, i, 2])
-        n_all_other += c != GREEN and c != WHITE
-        if _RING[k, 1] > 0.25:  # below the ball (v grows downward)
-            n_low += 1
-            n_green += c == GREEN
-            n_other += c != GREEN and c != WHITE
-    if n_low < 6:
-        n_low, n_green, n_other = n_all, n_all_green, n_all_other
+        other = c != GREEN and c != WHITE
+        for t in range(3):
+            if _RING[k, 1] > (0.25, -0.5, -2.0)[t]:
+                n[t, 0] += 1
+                n[t, 1] += c == GREEN
+                n[t, 2] += other
+        if _RING[k, 1] > 0.25:
+            if not other:
+                trail = 0
+            elif n[0, 0] - n[0, 2] == 0:
+                lead += 1
+            else:
+                trail += 1
+    t = 0
+    while t < 2 and n[t, 0] < 6:  # the image's edge cuts the ring below: look beside the ball too
+        t += 1
+    n_low, n_green, n_other = n[t, 0], n[t, 1], n[t, 2]
+    # obstacles beside the ball cover the ring below from its ends: the carpet (or a line) shows
+    # on at least four samples between them
+    side = math.nan
+    if t == 0:
+        side = 1.0 if n_other == lead + trail and n_low - n_other >= 4 else 0.0
     dark = dark_value * carpet / max(n_all_green, 1)
     n_in = n_ball = n_blend = n_black = n_white = 0
     for k in range(_DISC.shape[0]):
@@ -430,8 +506,8 @@ def _content(
         n_in += 1
         if _is_ball(c, modern):
             n_ball += 1
-        elif c == YELLOW and not modern:
-            n_blend += 1  # orange blurred or blended with the carpet looks yellow
+        elif not modern and (c == YELLOW or _in_string(classes, i, j)):
+            n_blend += 1  # orange blurred or blended with the carpet looks yellow; a net's string
         if max(rgb[j, i, 0], rgb[j, i, 1], rgb[j, i, 2]) < dark:
             n_black += 1
         elif c == WHITE or c == 0:
@@ -440,8 +516,19 @@ def _content(
     fill = (n_ball + n_blend) / m if n_ball >= 0.5 * n_in else math.nan
     ml = max(n_low, 1)
     return (
-        n_in, fill, n_black / m, n_white / m, n_low, n_green / ml, n_other / ml, n_orange / max(n_all, 1)
+        n_in, fill, n_black / m, n_white / m, n_low, n_green / ml, n_other / ml, n_orange / max(n_all, 1), side
     )  # fmt: skip
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _capped(
+    rgb: NDArray[np.uint8], classes: NDArray[np.uint8], u: float, v: float, r: float
+) -> bool:  # pragma: no cover - compiled
+    """Classic: the ball pixels above the centre (u, v) end within 1.5 r + 2 px, or at the image's
+    top: a ball, not the foot of a goal post or an orange board going on upward."""
+    reach = int(1.5 * r) + 2
+    end, real = _run_end(rgb, classes, math.floor(u), math.floor(v), 0, -1, reach, False)
+    return real or end <= 0.0
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -455,7 +542,7 @@ def _plausible(
     prm: NDArray[np.float64],
 ) -> bool:  # pragma: no cover - compiled
     """A loose form of :func:`_verify`'s colour tests for a rough centre (before the fit)."""
-    n_in, fill, black, _, _, _, _, _ = _content(rgb, classes, u, v, r, modern, prm[_DARK])
+    n_in, fill, black, _, _, _, _, _, _ = _content(rgb, classes, u, v, r, modern, prm[_DARK])
     if n_in < 8 or not fill >= prm[_FILL] - 0.25:
         return False
     return not modern or black >= 0.5 * prm[_MIN_BLACK]
@@ -486,13 +573,16 @@ def _verify(
         fit = 1.0 - 0.5 * err / tol
     if rms > prm[_RESID] * r + 0.5:
         return 0.0
-    n_in, fill, black, white, n_low, green, other, orange = _content(rgb, classes, u, v, r, modern, prm[_DARK])
+    n_in, fill, black, white, n_low, green, other, orange, side = _content(rgb, classes, u, v, r, modern, prm[_DARK])
     if n_in < 9 or n_low < 6 or not fill >= prm[_FILL]:
         return 0.0
-    if green < prm[_RING_GREEN] or other > prm[_RING_OTHER]:
+    if math.isnan(side):  # the image's edge cuts the ring below the ball
+        if modern and (green < prm[_RING_GREEN] or other > 0.6):
+            return 0.0
+    elif green < prm[_RING_GREEN] or (other > prm[_RING_OTHER] and not (side > 0.5 and other <= 0.6)):
         return 0.0
     if modern and (black < prm[_MIN_BLACK] or black > prm[_MAX_BLACK] or white < prm[_MIN_WHITE]):
         return 0.0
-    if not modern and orange > prm[_RING_ORANGE]:
+    if not modern and (orange > prm[_RING_ORANGE] or not _capped(rgb, classes, u, v, r)):
         return 0.0
     return fill * (0.5 + 0.5 * green) * fit

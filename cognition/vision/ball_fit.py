@@ -29,7 +29,10 @@ from numpy.typing import NDArray
 
 from cognition.vision.projection import ground_nb
 
-GREEN, WHITE, BLACK, ORANGE, YELLOW = 1, 2, 3, 4, 5
+OTHER, GREEN, WHITE, BLACK, ORANGE, YELLOW = 0, 1, 2, 3, 4, 5
+_STRING = 3
+"""Widest gap (px) inside the classic ball that does not end it: a string of a goal's net in front
+of it, pixels that noise turned YELLOW or grey (anything but GREEN between ORANGE)."""
 _N_RAYS = 16
 _RAYS = np.array([(math.cos(a), math.sin(a)) for a in 2.0 * math.pi * np.arange(_N_RAYS) / _N_RAYS])
 
@@ -37,6 +40,37 @@ _RAYS = np.array([(math.cos(a), math.sin(a)) for a in 2.0 * math.pi * np.arange(
 @nb.njit(cache=True, error_model="numpy", inline="always")
 def _is_ball(c: int, modern: bool) -> bool:  # pragma: no cover - compiled
     return c != GREEN if modern else c == ORANGE
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _string(classes: NDArray[np.uint8], i: int, j: int, di: int, dj: int) -> int:  # pragma: no cover - compiled
+    """Classic: pixels to step from the non-ball pixel (i, j) in direction (di, dj) to the ORANGE
+    pixel after it when (i, j) lies on a thin gap inside the ball (a string of a goal's net in
+    front of it, or pixels that noise turned YELLOW or grey: anything but GREEN, ORANGE again
+    within ``_STRING`` px); 0 where the ball ends there."""
+    if classes[j, i] == GREEN:
+        return 0
+    h, w = classes.shape
+    for k in range(1, _STRING + 1):
+        ci, cj = i + k * di, j + k * dj
+        if not (0 <= ci < w and 0 <= cj < h):
+            return 0
+        c = classes[cj, ci]
+        if c == ORANGE:
+            return k
+        if c == GREEN:
+            return 0
+    return 0
+
+
+@nb.njit(cache=True, error_model="numpy")
+def _in_string(classes: NDArray[np.uint8], i: int, j: int) -> bool:  # pragma: no cover - compiled
+    """Classic: the pixel (i, j), neither ORANGE nor GREEN, lies on a thin gap inside the ball (a
+    net's string, noise; ORANGE within ``_STRING`` px on both sides, horizontally or vertically)."""
+    for di, dj in ((1, 0), (0, 1)):
+        if _string(classes, i, j, di, dj) > 0 and _string(classes, i, j, -di, -dj) > 0:
+            return True
+    return False
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -104,8 +138,10 @@ def _run_end(
 ) -> tuple[float, bool]:  # pragma: no cover - compiled
     """The end (continuous position along the axis of (di, dj)) of the run of ball pixels from
     pixel (i, j) in direction (di, dj), and whether it is a real edge (a non-ball pixel within
-    ``reach``; not the image edge)."""
+    ``reach``; not the image edge). Classic: the strings of a goal's net across the ball do not
+    end it (:func:`_string`)."""
     h, w = classes.shape
+    skip = 0
     pos = i if di != 0 else j
     lim = w if di != 0 else h
     sg = di + dj
@@ -113,9 +149,15 @@ def _run_end(
         p = pos + sg * k
         if p < 0 or p >= lim:
             return (0.0 if sg < 0 else float(lim)), False
+        if k < skip:
+            continue  # on a net's string in front of the ball
         ci, cj = i + di * k, j + dj * k
         c = classes[cj, ci]
         if not _is_ball(c, modern):
+            n = 0 if modern else _string(classes, ci, cj, di, dj)
+            if n > 0:
+                skip = k + n
+                continue
             a = _coverage(rgb, cj - dj, ci - di, cj, ci, cj + dj, ci + di) if c == GREEN else 0.5
             return ((float(p) + a) if sg > 0 else (float(p) + 1.0 - a)), True
     return float(pos + sg * reach) + (1.0 if sg > 0 else 0.0), False
@@ -126,12 +168,19 @@ def _chord(
     rgb: NDArray[np.uint8], classes: NDArray[np.uint8], u: float, v: float, horizontal: bool, reach: int, modern: bool
 ) -> tuple[float, float, bool, bool]:  # pragma: no cover - compiled
     """Ends (px, continuous) of the horizontal or vertical run of ball pixels through (u, v) and
-    whether each is a real edge (see :func:`_run_end`)."""
+    whether each is a real edge (see :func:`_run_end`). Classic: where (u, v) lies on a net's
+    string the run beside it is read."""
     h, w = classes.shape
     i, j = math.floor(u), math.floor(v)
     if not (0 <= i < w and 0 <= j < h):
         return math.nan, math.nan, False, False
     di, dj = (1, 0) if horizontal else (0, 1)
+    if not modern and classes[j, i] != ORANGE:  # classic: on a net's string, read beside it
+        for d in (1, -1, 2, -2):
+            i2, j2 = i + d * dj, j + d * di
+            if 0 <= i2 < w and 0 <= j2 < h and classes[j2, i2] == ORANGE:
+                i, j = i2, j2
+                break
     a, ra = _run_end(rgb, classes, i, j, -di, -dj, reach, modern)
     b, rb = _run_end(rgb, classes, i, j, di, dj, reach, modern)
     return a, b, ra, rb
@@ -140,7 +189,8 @@ def _chord(
 @nb.njit(cache=True, error_model="numpy")
 def _thin(classes: NDArray[np.uint8], u: float, v: float, r: float, modern: bool) -> bool:  # pragma: no cover
     """A diagonal chord through (u, v) with carpet at both ends is shorter than r: a slanted line,
-    not a ball (every chord through a point near a disc's centre is longer than its radius)."""
+    not a ball (every chord through a point near a disc's centre is longer than its radius).
+    Classic: a net's strings across the ball do not end the chord."""
     h, w = classes.shape
     i, j = math.floor(u), math.floor(v)
     if not (0 <= i < w and 0 <= j < h):
@@ -150,13 +200,17 @@ def _thin(classes: NDArray[np.uint8], u: float, v: float, r: float, modern: bool
         n = 1
         ends = 0
         for s in (-1, 1):
+            skip = 0
             for k in range(1, reach + 1):
                 ci, cj = i + s * k, j + s * dj * k
                 if not (0 <= ci < w and 0 <= cj < h):
                     break
-                if not _is_ball(classes[cj, ci], modern):
-                    ends += 1
-                    break
+                if k >= skip and not _is_ball(classes[cj, ci], modern):
+                    m = 0 if modern else _string(classes, ci, cj, s, s * dj)
+                    if m == 0:
+                        ends += 1
+                        break
+                    skip = k + m
                 n += 1
         if ends == 2 and 1.41421356 * n < r:
             return True
@@ -175,8 +229,8 @@ def _silhouette(
     used: NDArray[np.bool_],
 ) -> int:  # pragma: no cover - compiled
     """Edge points of the ball's outline on 16 rays from (u, v) into ``pts``; ``used`` marks the
-    rays that found one (an edge to a non-ball pixel within 1.8 r + 2 px inside the image).
-    Returns their number."""
+    rays that found one (an edge to a non-ball pixel within 1.8 r + 2 px inside the image;
+    classic: not a net's string with ORANGE behind it). Returns their number."""
     h, w = classes.shape
     reach = 1.8 * r + 2.0
     coarse = max(1.0, math.floor(r / 5.0))  # big balls: walk in coarse steps, then pixel by pixel
@@ -204,6 +258,16 @@ def _silhouette(
                 t += 1.0
                 continue
             c = classes[j, i]
+            if not _is_ball(c, modern) and not modern and c != GREEN:
+                # classic: a net's string or noise in the ball (ORANGE again within a few px on the ray)
+                for q in range(1, _STRING + 1):
+                    i2 = math.floor(u + (t + q) * cx)
+                    j2 = math.floor(v + (t + q) * sy)
+                    if 0 <= i2 < w and 0 <= j2 < h and classes[j2, i2] == ORANGE:
+                        c = ORANGE
+                        t += q - 1.0
+                        i, j = i2, j2
+                        break
             if not _is_ball(c, modern):
                 a = 0.5
                 if c == GREEN:
@@ -288,6 +352,18 @@ def _fit_circle(
 
 
 @nb.njit(cache=True, error_model="numpy")
+def _inside(classes: NDArray[np.uint8], u: float, v: float, modern: bool) -> bool:  # pragma: no cover - compiled
+    """The pixel at (u, v) may be a ball's centre: a ball pixel (classic: or YELLOW, the blend of
+    orange with the carpet, or a net's string), or outside the image."""
+    h, w = classes.shape
+    i, j = math.floor(u), math.floor(v)
+    if not (0 <= i < w and 0 <= j < h):
+        return True
+    c = classes[j, i]
+    return _is_ball(c, modern) or (not modern and (c == YELLOW or _in_string(classes, i, j)))
+
+
+@nb.njit(cache=True, error_model="numpy")
 def _inliers(pts: NDArray[np.float64], n: int, u: float, v: float, lo2: float, hi2: float) -> int:  # pragma: no cover
     """Points whose squared distance from (u, v) lies in [lo2, hi2]."""
     m = 0
@@ -316,7 +392,8 @@ def _fit(
     First the centre with the radius fixed to r, robustly: of the seed and the centres of the
     circles of radius r through pairs of neighbouring edge points, the one with most points
     within the larger of 1.5 px and r / 4 of the circle (the outline; a seed far off the centre,
-    edge points on a robot's foot or beyond a line do not mislead it), then least squares on
+    edge points on a robot's foot or beyond a line do not mislead it; a centre must lie on a
+    ball pixel, not on the carpet beyond a short arc), then least squares on
     those points. When they span more than half the circle, centre and radius are fitted to
     them freely.
     """
@@ -342,6 +419,8 @@ def _fit(
             f = math.sqrt((r * r - q2) / q2)
             for sg in (-1.0, 1.0):
                 hx, hy = mx - sg * f * qy, my + sg * f * qx
+                if not _inside(classes, hx, hy, modern):
+                    continue  # the circle on the other side of the arc
                 m = _inliers(pts, n, hx, hy, lo2, hi2)
                 if m > best:
                     best, cu, cv = m, hx, hy
