@@ -48,7 +48,7 @@ from cognition.vision.boundary import field_boundary
 from cognition.vision.colour import ColourClassifier
 from cognition.vision.crossings import crossings_nb, look_nb
 from cognition.vision.dnt import dnt_lines_nb, ground_points_nb
-from cognition.vision.goals import clear_of_posts_nb, cut_behind_nb, goal_lines_nb
+from cognition.vision.goals import clear_of_posts_nb, cut_behind_nb, goal_lines_nb, not_under_posts_nb
 from cognition.vision.hough import hough_lines
 from cognition.vision.image import VisionError, as_rgb, check_camera
 from cognition.vision.marks import loose_points_nb, marks_nb
@@ -111,6 +111,8 @@ class Vision:
         """Colour classes of the scheme's two goals (own_goal, opponent_goal)."""
         self._jersey_classes = tuple(self.classifier.class_of(c) for c in self.scheme.team_colours)
         """Colour classes of the two teams' jerseys."""
+        self._net_class = self.classifier.class_of(self.scheme.line_white)
+        """Colour class of the goal nets (white, as the lines)."""
         self._modern_ball = self.scheme.ball_primary != self.scheme.ball_secondary
         """The ball has patches (the white-and-black SPL ball) rather than one colour."""
         self._circle = np.array(
@@ -183,6 +185,10 @@ class Vision:
             cross = cross[np.hypot(cross[:, 0], cross[:, 1]) <= p.crossing_max_distance * math.sqrt(scale)]
         if len(posts):
             cross = clear_of_posts_nb(cross, posts, p.post_clearance)
+        if len(cross):  # and where a post is seen standing on it, though its base is not
+            cross = not_under_posts_nb(
+                cross, classes, cam, goals[0], goals[1], self._net_class, dims.goal_post_diameter / 2, dims.goal_height
+            )
         if math.isfinite(cx):
             cross = _circle_crossings_nb(cross, cx, cy, radius, seg_ground, cam, p.max_distance, classes, boundary)
         marks = marks_nb(
