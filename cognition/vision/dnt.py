@@ -61,6 +61,7 @@ def centre_circle_nb(
     line_width: float,
     blur_u: float,
     blur_v: float,
+    vote_every: int = 1,
 ) -> tuple[float, float, NDArray[np.bool_]]:  # pragma: no cover - compiled
     """The centre circle's centre (robot frame, m; NaN if none) and which points lie on it."""
     n = ground.shape[0]
@@ -68,7 +69,7 @@ def centre_circle_nb(
     if radius <= 0.0:
         return math.nan, math.nan, on
     pts = ground[valid]
-    cx, cy, _, _ = find_circle_nb(pts, radius, cell, directions, inlier, min_points, min_span)
+    cx, cy, _, _ = find_circle_nb(pts, radius, cell, directions, inlier, min_points, min_span, vote_every)
     if not math.isfinite(cx):
         return math.nan, math.nan, on
     seen, share = verify_circle_nb(classes, boundary, cam, cx, cy, radius, 64, line_width, blur_u, blur_v)
@@ -160,7 +161,7 @@ def dnt_lines_nb(
     """Lines of one class image by the DNT method (module docstring).
 
     ``circle`` holds the centre-circle parameters (cell, directions, inlier, min points, min
-    span, min coverage), ``chain`` the chaining parameters in pixels of this image (gap,
+    span, min coverage, vote every), ``chain`` the chaining parameters in pixels of this image (gap,
     tolerance, min white, min points, merge angle), ``blur_u``, ``blur_v`` the motion blur
     (px) along image rows and columns. Returns ``(points, seg_px, seg_ground,
     open_ends, cx, cy, loose)``: line points K x 4 (u, v, run, direction), segments in the
@@ -171,7 +172,7 @@ def dnt_lines_nb(
     ground, valid = ground_points_nb(cam, points, max_distance)
     cx, cy, on_circle = centre_circle_nb(
         ground, valid, classes, boundary, cam, radius, circle[0], int(circle[1]), circle[2], int(circle[3]),
-        circle[4], circle[5], line_width, blur_u, blur_v,
+        circle[4], circle[5], line_width, blur_u, blur_v, int(circle[6]),
     )  # fmt: skip
     free = valid & ~on_circle
     idx = np.flatnonzero(free)

@@ -15,11 +15,14 @@ the camera matrix, a camera matrix with non-finite entries.
 
 from __future__ import annotations
 
+import math
+
 import cv2
+import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.camera import MAX_IMAGE_SIZE, MIN_IMAGE_SIZE, CameraMatrix
+from cognition.camera import CAMERA_ROW_SIZE, MAX_IMAGE_SIZE, MIN_IMAGE_SIZE, CameraMatrix
 
 _BT601 = np.array([[0.257, 0.504, 0.098], [-0.148, -0.291, 0.439], [0.439, -0.368, -0.071]], dtype=np.float32)
 """RGB -> (Y, U, V) of BT.601 video range (offsets 16, 128, 128), the inverse of OpenCV's YUYV decoding."""
@@ -33,11 +36,48 @@ def check_camera(camera: object) -> NDArray[np.float64]:
     """The camera's compact row (:meth:`CameraMatrix.as_row`) after checking it is usable."""
     if not isinstance(camera, CameraMatrix):
         raise VisionError(f"camera must be a cognition.camera.CameraMatrix, got {type(camera).__name__}")
+    rot, pos, s = camera.rotation, camera.position, camera.spec
+    if (
+        type(rot) is np.ndarray
+        and type(pos) is np.ndarray
+        and rot.dtype == np.float64
+        and pos.dtype == np.float64
+        and rot.shape == (3, 3)
+        and pos.shape == (3,)
+    ):  # the common case, in one compiled call
+        row = np.empty(CAMERA_ROW_SIZE)
+        if _fill_row_nb(rot, pos, float(s.fx), float(s.fy), float(s.cx), float(s.cy), s.width, s.height, row):
+            return row
     row = camera.as_row()
     if not np.all(np.isfinite(row)):
         bad = "rotation" if not np.all(np.isfinite(row[:9])) else "position"
         raise VisionError(f"the camera matrix has non-finite entries in its {bad}: {row[:12].tolist()}")
     return np.ascontiguousarray(row)
+
+
+@nb.njit(cache=True)
+def _fill_row_nb(
+    rot: NDArray[np.float64],
+    pos: NDArray[np.float64],
+    fx: float,
+    fy: float,
+    cx: float,
+    cy: float,
+    width: int,
+    height: int,
+    row: NDArray[np.float64],
+) -> bool:  # pragma: no cover - compiled
+    """Fill ``row`` as :meth:`CameraMatrix.as_row` does; False when an entry is not finite."""
+    for i in range(3):
+        for j in range(3):
+            row[3 * i + j] = rot[i, j]
+    for i in range(3):
+        row[9 + i] = pos[i]
+    row[12], row[13], row[14], row[15], row[16], row[17] = fx, fy, cx, cy, width, height
+    for k in range(CAMERA_ROW_SIZE):  # noqa: SIM110 - compiled, no generators
+        if not math.isfinite(row[k]):
+            return False
+    return True
 
 
 def as_rgb(image: object, camera: CameraMatrix) -> NDArray[np.uint8]:

@@ -49,6 +49,7 @@ circle_inlier           0.08 m           (0, 1]         distance from the circle
 circle_min_points       8                [3, 1000]      inliers of an accepted circle
 circle_min_span         90 deg           [0, 2pi]       arc the inliers must cover
 circle_min_coverage     0.85             [0, 1]         share of the projected circle's visible points on white
+circle_vote_every       2                [1, 16]        every n-th line point votes (all are fitted)
 mark_tolerance          0.6              (0, 5]         relative size error of a penalty mark blob
 mark_min_green          0.8              [0, 1]         green share of the ring around a mark
 mark_max_distance       3.0 m            (0, 100]       farther blobs are not marks (a 10 cm mark is then about
@@ -126,6 +127,7 @@ class VisionParams:
     circle_min_points: int = 8
     circle_min_span: float = 90.0 * _DEG
     circle_min_coverage: float = 0.85
+    circle_vote_every: int = 2
     mark_tolerance: float = 0.6
     mark_min_green: float = 0.8
     mark_max_distance: float = 3.0
@@ -168,6 +170,7 @@ class VisionParams:
         "circle_min_points": Range(3, 1000),
         "circle_min_span": Range(0.0, 2 * math.pi),
         "circle_min_coverage": Range(0.0, 1.0),
+        "circle_vote_every": Range(1, 16),
         "mark_tolerance": positive(5.0),
         "mark_min_green": Range(0.0, 1.0),
         "mark_max_distance": positive(100.0),
