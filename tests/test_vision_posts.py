@@ -430,3 +430,29 @@ def test_params_are_checked() -> None:
     p = PostParams(min_fill=0.6)
     assert p.packed[2] == 0.6 and not p.packed.flags.writeable
     assert p == PostParams(min_fill=0.6) and p != PostParams()
+
+
+def test_a_crossing_with_a_post_or_net_standing_on_it_is_dropped_and_one_on_carpet_is_kept() -> None:
+    """The goal's foot meets the goal line and the net's frame in junctions no field map has;
+    where the post's base is not seen, the post above the crossing tells it apart."""
+    from cognition.vision.goals import not_under_posts_nb
+
+    cam = camera(pitch=0.3)
+    img = carpet(cam)
+    post, free = (2.0, 0.4), (2.0, -0.4)
+    paint_post(img, cam, *post)
+    cross = np.array([[*post, 0.0, 0.0, 1.0, 0.0], [*free, 0.0, 0.0, 1.0, 0.0]])
+    row = cam.as_row()
+    white = int(Colour.WHITE)
+    kept = not_under_posts_nb(cross, img, row, int(Colour.YELLOW), int(Colour.BLUE), white, R, HEIGHT)
+    assert kept.shape[0] == 1 and np.allclose(kept[0, :2], free)
+    # a net (white) standing just behind the crossing drops it as well
+    net = carpet(cam)
+    fill_cylinder(net, cam, (free[0] + 0.1, free[1], 0.0), (free[0] + 0.1, free[1], HEIGHT), 0.3, white)
+    assert not_under_posts_nb(cross[1:], net, row, int(Colour.YELLOW), int(Colour.BLUE), white, R, HEIGHT).shape[0] == 0
+    # a white line receding from the crossing, seen below the camera only, is no post
+    line = carpet(cam)
+    fill_ground(line, cam, [(free[0], free[1] - 0.025), (9.0, free[1] - 0.025), (9.0, free[1] + 0.025),
+                            (free[0], free[1] + 0.025)], white)  # fmt: skip
+    kept = not_under_posts_nb(cross[1:], line, row, int(Colour.YELLOW), int(Colour.BLUE), white, R, HEIGHT)
+    assert kept.shape[0] == 1
