@@ -42,6 +42,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from cognition.fastmath import FASTMATH
 from teamsim.image_params import ImageParams
 
 MIN_BLUR = 0.05
@@ -58,7 +59,7 @@ POOL_REUSE = 256
 """Each image redraws ``ceil(n / POOL_REUSE)`` pool values (``n`` = values per image), cyclically."""
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=FASTMATH)
 def _tri_cdf(x: float) -> float:
     """Integral of the unit triangle (pixel footprint of linear interpolation) from -inf to ``x`` px."""
     if x <= -1.0:
@@ -70,7 +71,7 @@ def _tri_cdf(x: float) -> float:
     return 1.0
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=FASTMATH)
 def _blur_rows(src: NDArray[np.uint8], dst: NDArray[np.float32], length: float) -> None:
     """Horizontal motion blur of ``length`` px from ``src`` (H x 3W, RGB interleaved) into ``dst``.
 
@@ -149,7 +150,7 @@ def _blur_rows(src: NDArray[np.uint8], dst: NDArray[np.float32], length: float) 
             )
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=FASTMATH)
 def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
     """Vertical motion blur of ``length`` px from ``src`` (H x 3W) into ``dst``: running sums over rows."""
     H, n = src.shape[0], src.shape[1]
@@ -174,7 +175,7 @@ def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
             S[p] += np.float32(0.5) * (r + r1 - q - q1)
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=FASTMATH)
 def _rolling_shutter(src: NDArray, dst: NDArray[np.float32], sx: float, sy: float) -> None:
     """Rolling-shutter skew from ``src`` (H x 3W) into ``dst``.
 
@@ -208,7 +209,7 @@ def _rolling_shutter(src: NDArray, dst: NDArray[np.float32], sx: float, sy: floa
                 d[3 * i + c] = w00 * A[q0 + c] + w01 * A[q1 + c] + w10 * B[q0 + c] + w11 * B[q1 + c]
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=FASTMATH)
 def _photometric(
     src: NDArray,
     dst: NDArray[np.uint8],

@@ -49,6 +49,7 @@ import numba as nb
 import numpy as np
 
 from cognition.camera import camera_pose_nb
+from cognition.fastmath import FASTMATH
 from teamsim.image_objects import NEAR, VEC, draw_ball, draw_goal, draw_pole, draw_robot, span_window
 from teamsim.image_venue import GEO, C
 from teamsim.percept_parts import CAM, OBS, OC
@@ -75,7 +76,7 @@ def _slab(a, b, lo_v, hi_v, lo, hi):  # pragma: no cover - compiled
     return max(lo, u1), min(hi, u2)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _ground_rows(px, py, k, m, cam, fx, fy, cx, cy, width, height, q):  # pragma: no cover - compiled
     """Rows [j0, j1] a ground polygon (first ``k`` points of px, py) covers, (1, 0) if none.
 
@@ -115,7 +116,7 @@ def _ground_rows(px, py, k, m, cam, fx, fy, cx, cy, width, height, q):  # pragma
     return max(0, math.floor(vmin) - 1), min(int(height) - 1, math.floor(vmax) + 1)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def render_nb(
     obs, r, occ, ball, cams, geo, col, strips, circles, floor, light, walls, posts, poles, ico, img
 ):  # pragma: no cover - compiled
@@ -153,7 +154,7 @@ def render_nb(
     _objects(obs, r, occ, ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, light, posts, poles, ico, img)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _light_at(light, x, y, geo):  # pragma: no cover - compiled
     """The light map's gain at the world point (x, y) (m), bilinear between texel centres."""
     th, tw = light.shape
@@ -169,7 +170,7 @@ def _light_at(light, x, y, geo):  # pragma: no cover - compiled
     return float(t0 + b * (t1 - t0))
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _lit_colours(col, gain, tint, out):  # pragma: no cover - compiled
     """The colour table ``col`` lit by ``gain``, tinted (see ``GEO.TINT``), into ``out``."""
     d = gain - 1.0
@@ -180,7 +181,7 @@ def _lit_colours(col, gain, tint, out):  # pragma: no cover - compiled
     return out
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _objects(
     obs, r, occ, ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, light, posts, poles, ico, img
 ):  # pragma: no cover
@@ -244,7 +245,7 @@ def _objects(
             draw_pole(idx, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, oc, poles, img, scr)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _paint_rows(cam, m, d0, du, dv, fx, fy, cx, cy, W, H, strips, circles):  # pragma: no cover - compiled
     """Rows that each piece of paint may cover, and the image lines of the strips' edges.
 
@@ -287,7 +288,7 @@ def _paint_rows(cam, m, d0, du, dv, fx, fy, cx, cy, W, H, strips, circles):  # p
     return rows, edges
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _background(
     cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, strips, circles, floor, walls, img
 ):  # pragma: no cover
@@ -373,7 +374,7 @@ def _background(
             _put_bytes(flat[j], packed)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True, inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
 def _paint_row(cov, j, rows, edges, strips, circles, cam, d0, du, dv, sub, iv):  # pragma: no cover - compiled
     """Add the paint coverage of image row ``j`` to ``cov`` (W, float32).
 
@@ -455,7 +456,7 @@ def _paint_row(cov, j, rows, edges, strips, circles, cam, d0, du, dv, sub, iv): 
     return plo, phi
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True, inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
 def _cover(cov, iv, k0, w):  # pragma: no cover - compiled
     """Add ``w`` times the overlap of each pixel [i, i + 1] with the column intervals
     [iv[0, k], iv[1, k]] (k = k0 .. k0 + 3; (0, 0) is empty) to ``cov``; vectorizes.
@@ -482,7 +483,7 @@ def _cover(cov, iv, k0, w):  # pragma: no cover - compiled
     return x0, x0 + n
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _floor_samples(samp, idx, tex, tw, th, tx0, ty0, tdx, tdy):  # pragma: no cover - compiled
     """Floor texture every STRIDE columns of a row into ``samp`` (blocks + 1): column u is at
     (tx0 + u tdx, ty0 + u tdy) texels of ``tex`` (the texture flattened, ``th`` x ``tw``),
@@ -499,7 +500,7 @@ def _floor_samples(samp, idx, tex, tw, th, tx0, ty0, tdx, tdy):  # pragma: no co
         samp[k] = tex[idx[k]]
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _floor_samples_lin(samp, idx, fa, fb, tex, tw, th, tx0, ty0, tdx, tdy):  # pragma: no cover - compiled
     """As :func:`_floor_samples`, but bilinear between the four nearest texel centres (the
     texture at least 2 x 2); ``fa``, ``fb`` (float32, blocks + 1) are scratch for the weights.
@@ -526,7 +527,7 @@ def _floor_samples_lin(samp, idx, fa, fb, tex, tw, th, tx0, ty0, tdx, tdy):  # p
         samp[k] = t0 + fb[k] * (t1 - t0)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _floor_row(out, cov, bright, samp, ca, cb, col, grass, tint, plo, phi):  # pragma: no cover - compiled
     """Floor colours of a whole row as packed pixels into ``out`` (W, uint32); clears ``cov``.
 
@@ -591,7 +592,7 @@ def _floor_row(out, cov, bright, samp, ca, cb, col, grass, tint, plo, phi):  # p
         cov[i] = f0
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _hall(out, i_start, cam, rx, ry, rz, du, geo, walls, tw, th, ceil):  # pragma: no cover - compiled
     """Walls and ceiling as packed pixels into ``out`` (a row slice starting at column ``i_start``).
 
@@ -633,7 +634,7 @@ def _hall(out, i_start, cam, rx, ry, rz, du, geo, walls, tw, th, ceil):  # pragm
         out[k] = ceil if o >> 31 else p
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _put_words(words, p):  # pragma: no cover - compiled
     """Write packed pixels ``p`` (W, a multiple of 4) into an RGB row seen as 3 W / 4 words."""
     for q in range(p.shape[0] // 4):
@@ -643,7 +644,7 @@ def _put_words(words, p):  # pragma: no cover - compiled
         words[3 * q + 2] = (p2 >> 16) | (p3 << 8)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _put_bytes(row, p):  # pragma: no cover - compiled
     """Write packed pixels ``p`` into an interleaved RGB image row (any width)."""
     for i in range(p.shape[0]):

@@ -36,6 +36,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from cognition.fastmath import FASTMATH
 from teamsim.image_venue import GEO, C
 from teamsim.percept_parts import OBS, OC, clip
 
@@ -62,7 +63,7 @@ def _corner(c, x0, x1, y0, y1, z0, z1, m, cam):  # pragma: no cover - compiled
     )
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def box_pixels(x0, x1, y0, y1, z0, z1, m, cam, fx, fy, cx, cy, W, H):  # pragma: no cover - compiled
     """Pixel box (i0, i1, j0, j1), columns [i0, i1) and rows [j0, j1), that holds the part of
     the world box [x0, x1] x [y0, y1] x [z0, z1] (m) in front of the near plane, with one
@@ -148,7 +149,7 @@ def _wedge_cols(w, a1, b1, a2, b2, i0, i1):  # pragma: no cover - compiled
     return _cols(lo, hi, i0, i1)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True, inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
 def _blend_row(seg, scr, n):  # pragma: no cover - compiled
     """Blend ``scr`` (rows r, g, b 0..255, coverage; float32) over ``n`` RGB pixels ``seg``."""
     h, lo, hi = np.float32(0.5), np.float32(0.0), np.float32(255.0)
@@ -162,7 +163,7 @@ def _blend_row(seg, scr, n):  # pragma: no cover - compiled
         seg[3 * q + 2] = np.uint8(min(hi, max(lo, o + al * (scr[2, q] - o) + h)))
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def draw_robot(obs, occ, k, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, col, img, scr):  # pragma: no cover
     """Robot ``k``: a vertical cylinder with joint, jersey and visor bands (a fallen robot is
     a low cylinder, jersey on top). ``scr``: scratch (at least 4 x (W + VEC) float32)."""
@@ -193,7 +194,7 @@ def draw_robot(obs, occ, k, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, col, img, 
         _blend_row(flat[j, 3 * a : 3 * (a + n)], scr, n)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True, inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
 def _robot_row(scr, a, n, rx, ry, rz, dux, duy, pr, standing, cap, tt, pal):  # pragma: no cover - compiled
     """Colour and coverage of a robot at pixels a .. a + n - 1 of a row into ``scr`` (rows
     r, g, b, coverage; 0: untouched). The ray at column u is (rx + u dux, ry + u duy, rz);
@@ -251,7 +252,7 @@ def _robot_row(scr, a, n, rx, ry, rz, dux, duy, pr, standing, cap, tt, pal):  # 
         scr[3, q] = cov if hit else (one if top else zero)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def draw_ball(ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, ico, img, scr):  # pragma: no cover
     """The ball: a shaded sphere, single-coloured or with black patches (``GEO.MODERN_BALL``;
     the patches are centred on the first 12 rows of ``ico``). Per row, the columns inside
@@ -306,7 +307,7 @@ def draw_ball(ball, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, ico, img
         _blend_row(flat[j, 3 * a : 3 * (a + n)], scr, n)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True, inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
 def _ball_row(scr, a, n, rx, ry, rz, dux, duy, sp, patches, pal, pat):  # pragma: no cover - compiled
     """Colour and coverage of the ball at pixels a .. a + n - 1 of a row into ``scr`` (see
     :func:`_robot_row`). ``sp``: camera minus centre (x, y, z), radius, 1 / fx, the pattern's
@@ -358,7 +359,7 @@ def _ball_row(scr, a, n, rx, ry, rz, dux, duy, sp, patches, pal, pat):  # pragma
         scr[3, q] = cov if (tc > zero) & (cov > zero) else zero
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def draw_goal(g, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, posts, img, scr):  # pragma: no cover
     """Goal ``g`` (0: at -x, 1: at +x): the net (transparent: back, sides, top), then posts and
     crossbar (per pixel the nearest of the three). ``scr``: scratch (5 x (W + VEC) float32)."""
@@ -429,7 +430,7 @@ def draw_goal(g, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, posts, img,
         _blend_row(flat[j, 3 * lo : 3 * hi], scr[:, lo:hi], hi - lo)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _net(n_ax, a_ax, b_ax, plane, rect, box, net, cam, d0, du, dv, W, img):  # pragma: no cover - compiled
     """One net panel: the rectangle where goal-frame coordinate ``n_ax`` (0: x' = sgn x, 1: y,
     2: z) equals ``plane`` and coordinates ``a_ax``, ``b_ax`` lie in ``rect`` = (lo1, hi1,
@@ -464,7 +465,7 @@ def _net(n_ax, a_ax, b_ax, plane, rect, box, net, cam, d0, du, dv, W, img):  # p
         _net_row(flat[j, 3 * x0 : 3 * (x0 + n)], x0, ray, (g, oa, ob), rect, net)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True, inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
 def _net_row(seg, x0, ray, org, rect, net):  # pragma: no cover - compiled
     """Blend a net panel over the RGB pixels ``seg`` (columns x0 ..). The ray at column u has
     the coordinates ray[0] + u ray[1] (along the normal), ray[2] + u ray[3], ray[4] + u ray[5]
@@ -502,7 +503,7 @@ def _net_row(seg, x0, ray, org, rect, net):  # pragma: no cover - compiled
         seg[3 * q + 2] = np.uint8(min(top, max(zero, o + al * (cb - o) + half)))
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True, inline="always")
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
 def _cyl_row(scr, a, n, ray, cyl, rad, inv_f, bar, colour, colour2, band):  # pragma: no cover - compiled
     """Cast pixels a .. a + n - 1 of a row against a post, crossbar or pole, keeping in ``scr``
     (rows r, g, b, coverage, depth; indexed by column) the nearest hit so far.
@@ -549,7 +550,7 @@ def _cyl_row(scr, a, n, ray, cyl, rad, inv_f, bar, colour, colour2, band):  # pr
         sd[q] = t if better else sd[q]
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def draw_pole(k, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, geo, col, poles, img, scr):  # pragma: no cover
     """Corner pole ``k``: three bands, the colours of the goal at its end of the field (the
     middle one the other goal's). ``scr``: scratch (5 x (W + VEC) float32)."""

@@ -43,6 +43,8 @@ import math
 import numba as nb
 import numpy as np
 
+from cognition.fastmath import FASTMATH
+
 _MUL = np.uint64(0x2545F4914F6CDD1D)
 _S12, _S25, _S27, _S11 = np.uint64(12), np.uint64(25), np.uint64(27), np.uint64(11)
 _TWO53 = 1.0 / 9007199254740992.0
@@ -90,7 +92,7 @@ _INV_TWO_PI = 1.0 / _TWO_PI
 _INV_PI = 1.0 / math.pi
 
 
-@nb.njit(cache=True, inline="always", fastmath=True)
+@nb.njit(cache=True, inline="always", fastmath=FASTMATH)
 def fast_atan2(y, x):  # pragma: no cover - compiled
     """atan2(y, x) in (-pi, pi] with an absolute error below 2e-5 rad; branch-free."""
     ax, ay = abs(x), abs(y)
@@ -103,7 +105,7 @@ def fast_atan2(y, x):  # pragma: no cover - compiled
     return -r if y < 0.0 else r
 
 
-@nb.njit(cache=True, inline="always", fastmath=True)
+@nb.njit(cache=True, inline="always", fastmath=FASTMATH)
 def fast_sincos(a):  # pragma: no cover - compiled
     """(sin a, cos a) for any a, absolute error below 1e-6; branch-free polynomials."""
     a = a - _TWO_PI * math.floor((a + _PI) / _TWO_PI)  # [-pi, pi)
@@ -114,7 +116,7 @@ def fast_sincos(a):  # pragma: no cover - compiled
     return 2.0 * sh * ch, ch * ch - sh * sh
 
 
-@nb.njit(cache=True, inline="always", fastmath=True)
+@nb.njit(cache=True, inline="always", fastmath=FASTMATH)
 def _q(px, py, th, mx, my, dist, bear, inv_sr, inv_sb):  # pragma: no cover - compiled
     """log of CMU Alg. 3 for a landmark at (mx, my) seen from the particle (px, py, th)."""
     ex, ey = mx - px, my - py
@@ -134,7 +136,7 @@ def _cell(gx, gy, x0, y0, inv_cell, nx, ny):  # pragma: no cover - compiled
     return int(min(fy, ny - 1.0)), int(min(fx, nx - 1.0))
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def log_likelihood_nb(
     parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, out, scratch, w, obs_ev
 ):  # pragma: no cover - compiled
@@ -258,7 +260,7 @@ def log_likelihood_nb(
         out[i] = acc[i] + math.log(prod[i])
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=True)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _hough_q(px, py, th, c, s, ob, hough, lines):  # pragma: no cover - compiled
     """NimbRo eq. 7 for one particle: the map line of the observed orientation class nearest
     in Hough space, compared by theta, rho, mean position u-bar and spread sigma(u)."""
