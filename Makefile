@@ -31,6 +31,7 @@ studies:
 	teamsim compare --scenario ball-noise ball-noise-rolling --seeds 20 --out docs/studies/ball-noise
 	teamsim compare --scenario penalties-spl2010 penalties-spl2025 --seeds 10 --out docs/studies/penalties
 	teamsim compare --scenario kidnap-during-play --seeds 10 --out docs/studies/kidnap-during-play
+	teamsim compare --scenario percepts-vs-images --seeds 10 --out docs/studies/percepts-vs-images
 
 # torch first, pinned: an unpinned torch pulls a multi-GB CUDA build
 train-install:
