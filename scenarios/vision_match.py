@@ -3,11 +3,12 @@
 :func:`evaluate_frame` compares the :class:`~cognition.percepts.Percepts` that vision reported
 for one image with the renderer's :class:`~teamsim.images.ImageAnnotations` of the same image
 and returns a :class:`Tally` per kind (counts, label checks, position errors);
-:func:`summarize` turns summed tallies into precision, recall and error statistics and
-:func:`check_bars` checks them against the vision issue's bars. The building blocks
-(:func:`greedy_match`, :func:`match_points`, :func:`match_boxes`, :func:`match_lines`,
-:func:`labels_agree`) work on plain arrays, for tests and for other evaluations. The frames,
-the run and the command are in :mod:`scenarios.vision_eval`.
+:func:`scenarios.vision_report.summarize` turns summed tallies into precision, recall and error
+statistics and :func:`scenarios.vision_report.check_bars` checks them against the vision
+issue's bars. The building blocks (``greedy_match``, ``match_points``, ``match_boxes``,
+``match_lines``, ``labels_agree`` in :mod:`scenarios.vision_assign`) work on plain arrays, for
+tests and for other evaluations. The frames, the run and the command are in
+:mod:`scenarios.vision_eval`.
 
 **Matching** (per frame and kind; :func:`greedy_match`: pairs in increasing pixel distance,
 one-to-one; pixel tolerances are given for 320 px wide images and scale with the width):
@@ -93,10 +94,9 @@ median relative distance error < 5 % (posts, crossings, circle, marks, ball).
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -105,6 +105,15 @@ from cognition.field import Field
 from cognition.params import PROBABILITY, Range, Ranges, check_ranges, non_negative, positive
 from cognition.percepts import Kind, Percepts, RobotTeam
 from cognition.vision.draw import percept_pixels
+from scenarios.vision_assign import (
+    LINE_SAMPLES,
+    greedy_match,
+    labels_agree,
+    line_samples,
+    match_boxes,
+    match_lines,
+    match_points,
+)
 from teamsim.images import ImageAnnotations
 from teamsim.percepts import CIRCLE_SAMPLES, Scene
 
@@ -117,7 +126,6 @@ LABELS = {"post": "side", "crossing": "type", "crossing_any": "type", "crossing_
 BASE_WIDTH = 320.0
 """Image width (px) the pixel tolerances are given for."""
 _CIRCLE_POINTS = 4 * CIRCLE_SAMPLES  # sample points of ImageAnnotations.circle over the whole circle
-_LINE_SAMPLES = 32
 _DEG = 180.0 / math.pi
 
 
@@ -163,139 +171,6 @@ class EvalParams:
 
     def __post_init__(self) -> None:
         check_ranges(self)
-
-
-# -- matching ------------------------------------------------------------------------------
-
-
-def greedy_match(cost: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """One-to-one pairs of detections (rows) and annotations (columns) by increasing ``cost``;
-    an infinite or NaN cost forbids the pair. Returns (annotation of each detection, detection
-    of each annotation), -1 where unmatched."""
-    c = np.asarray(cost, dtype=np.float64)
-    n, m = c.shape
-    det = np.full(n, -1, dtype=np.int64)
-    ann = np.full(m, -1, dtype=np.int64)
-    if n == 0 or m == 0:
-        return det, ann
-    flat = np.where(np.isfinite(c), c, np.inf).ravel()
-    order = np.argsort(flat, kind="stable")
-    for f in order[: int(np.isfinite(flat).sum())]:
-        i, j = divmod(int(f), m)
-        if det[i] < 0 and ann[j] < 0:
-            det[i], ann[j] = j, i
-    return det, ann
-
-
-def _distances(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Pixel distances (n x m) between points a (n x 2) and b (m x 2); NaN where undefined."""
-    return np.hypot(a[:, None, 0] - b[None, :, 0], a[:, None, 1] - b[None, :, 1])
-
-
-def match_points(
-    det_uv: NDArray[np.float64], ann_uv: NDArray[np.float64], tolerance: float | NDArray[np.float64]
-) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """Greedy matching of pixels within ``tolerance`` (px; a scalar or one per annotation)."""
-    d = _distances(np.asarray(det_uv, float).reshape(-1, 2), np.asarray(ann_uv, float).reshape(-1, 2))
-    tol = np.broadcast_to(np.asarray(tolerance, dtype=float), d.shape[1:])
-    with np.errstate(invalid="ignore"):
-        return greedy_match(np.where(d <= tol[None, :], d, np.inf))
-
-
-def match_boxes(
-    det_uv: NDArray[np.float64], ann_uv: NDArray[np.float64], boxes: NDArray[np.float64], tolerance: float, widen: float
-) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """Greedy matching by pixel distance to ``ann_uv``, allowed within ``tolerance`` of it or inside
-    the annotation's box (u0, v0, u1, v1) widened by ``widen`` px on every side."""
-    p = np.asarray(det_uv, float).reshape(-1, 2)
-    b = np.asarray(boxes, float).reshape(-1, 4)
-    d = _distances(p, np.asarray(ann_uv, float).reshape(-1, 2))
-    with np.errstate(invalid="ignore"):
-        inside = (
-            (p[:, None, 0] >= b[None, :, 0] - widen) & (p[:, None, 0] <= b[None, :, 2] + widen)
-            & (p[:, None, 1] >= b[None, :, 1] - widen) & (p[:, None, 1] <= b[None, :, 3] + widen)
-        )  # fmt: skip
-        return greedy_match(np.where((d <= tolerance) | inside, np.nan_to_num(d, nan=1e9), np.inf))
-
-
-def labels_agree(
-    det_label: NDArray[np.int64], ann_label: NDArray[np.int64], det_to_ann: NDArray[np.int64], unknown: int | None
-) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """(agree, checked) per detection: ``checked`` where the detection is matched and both labels
-    are known (not ``unknown``); ``agree`` is True unless checked and different."""
-    matched = det_to_ann >= 0
-    a = np.where(matched, np.asarray(ann_label)[np.maximum(det_to_ann, 0)] if len(ann_label) else -1, -1)
-    d = np.asarray(det_label)
-    checked = matched & ((d != unknown) & (a != unknown) if unknown is not None else matched)
-    return ~checked | (d == a), checked
-
-
-def _segment_distance(p: NDArray[np.float64], seg: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Distances (n x m) from points p (n x 2) to segments seg (m x 4: u1, v1, u2, v2)."""
-    a, ab = seg[None, :, :2], seg[None, :, 2:] - seg[None, :, :2]
-    rel = p[:, None, :] - a
-    t = np.clip((rel * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-12), 0.0, 1.0)
-    return np.linalg.norm(rel - t[..., None] * ab, axis=-1)
-
-
-def _carrier_distance(p: NDArray[np.float64], seg: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
-    """Distances (n x m) from points p (n x 2) to the carrier lines of segments seg (m x 4),
-    infinite where a point lies farther than max(3 tolerance, 20 % of the segment) beyond its
-    ends along it."""
-    a, ab = seg[None, :, :2], seg[None, :, 2:] - seg[None, :, :2]
-    length = np.maximum(np.linalg.norm(ab, axis=-1), 1e-9)
-    rel = p[:, None, :] - a
-    along = (rel * ab).sum(-1) / length
-    across = np.abs(rel[..., 0] * ab[..., 1] - rel[..., 1] * ab[..., 0]) / length
-    slack = np.maximum(3.0 * tolerance, 0.2 * length)
-    return np.where((along >= -slack) & (along <= length + slack), across, np.inf)
-
-
-def match_lines(
-    det_seg: NDArray[np.float64],
-    ann_seg: NDArray[np.float64],
-    tolerance: float,
-    ann_ids: NDArray[np.int64] | None = None,
-    samples: int = _LINE_SAMPLES,
-) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
-    """(line id of each detected segment, or -1; covered samples per annotated piece).
-
-    Pieces with the same id (``ann_ids``, default: each piece its own id) are pieces of one
-    straight line (split where robots hide it). A detected segment (u1, v1, u2, v2) lies on
-    the line whose pieces are nearest to both its ends when both are within ``tolerance`` px of
-    their carrier lines, no farther than max(3 ``tolerance``, 20 % of the piece) beyond the
-    piece (a segment bridging a robot in front of a line is on that line; one running into the
-    width of a line it meets at a crossing too). Each annotated
-    piece is sampled at ``samples`` points; a sample is covered when it is within
-    ``tolerance`` of a detected segment.
-    """
-    det = np.asarray(det_seg, float).reshape(-1, 4)
-    ann = np.asarray(ann_seg, float).reshape(-1, 4)
-    ids = np.arange(len(ann)) if ann_ids is None else np.asarray(ann_ids, dtype=np.int64)
-    line = np.full(len(det), -1, dtype=np.int64)
-    covered = np.zeros((len(ann), samples), dtype=np.bool_)
-    if len(det) == 0 or len(ann) == 0:
-        return line, covered
-    names = np.unique(ids)
-    same = ids[None, :] == names[:, None]  # (lines x pieces)
-    ends = []
-    for end in (det[:, :2], det[:, 2:]):
-        d = np.nan_to_num(_carrier_distance(end, ann, tolerance), nan=np.inf)
-        ends.append(np.where(same[None], d[:, None, :], np.inf).min(axis=2))  # (det x lines)
-    worst = np.maximum(*ends)
-    best = np.argmin(worst, axis=1)
-    ok = worst[np.arange(len(det)), best] <= tolerance
-    line[ok] = names[best[ok]]
-    pts = _line_samples(ann, samples).reshape(-1, 2)
-    with np.errstate(invalid="ignore"):
-        covered = (_segment_distance(pts, det) <= tolerance).any(axis=1).reshape(len(ann), samples)
-    return line, covered
-
-
-def _line_samples(seg: NDArray[np.float64], samples: int) -> NDArray[np.float64]:
-    """``samples`` points (m x samples x 2) evenly inside each segment (cell centres)."""
-    t = (np.arange(samples) + 0.5) / samples
-    return seg[:, None, :2] + t[None, :, None] * (seg[:, None, 2:] - seg[:, None, :2])
 
 
 # -- one frame -----------------------------------------------------------------------------
@@ -567,13 +442,13 @@ def _line_tally(
     line, covered = match_lines(det, a[:, :4], p.line_px * k, a[:, 4].astype(np.int64))
     cam = ann.camera
     # the part of each annotated piece within range: samples projected on the ground
-    samples = _line_samples(a[:, :4], _LINE_SAMPLES).reshape(-1, 2)
+    samples = line_samples(a[:, :4], LINE_SAMPLES).reshape(-1, 2)
     ground, ok = cam.pixel_to_ground(samples) if len(samples) else (np.zeros((0, 2)), np.zeros(0, bool))
     with np.errstate(invalid="ignore"):
-        in_range = (ok & (np.hypot(ground[:, 0], ground[:, 1]) <= p.max_distance)).reshape(len(a), _LINE_SAMPLES)
+        in_range = (ok & (np.hypot(ground[:, 0], ground[:, 1]) <= p.max_distance)).reshape(len(a), LINE_SAMPLES)
     length = np.hypot(a[:, 2] - a[:, 0], a[:, 3] - a[:, 1])
     n_in = in_range.sum(axis=1)
-    counted = length * n_in / _LINE_SAMPLES >= p.line_min_px * k
+    counted = length * n_in / LINE_SAMPLES >= p.line_min_px * k
     found = (covered & in_range).sum(axis=1) >= p.line_cover * np.maximum(n_in, 1)
     with np.errstate(invalid="ignore"):
         det_counted = (np.hypot(t.x, t.y) <= p.max_distance) & (np.hypot(t.xy2[:, 0], t.xy2[:, 1]) <= p.max_distance)
@@ -613,122 +488,3 @@ def _circle_tally(
     with np.errstate(invalid="ignore"):
         counted_d = np.hypot(t.x, t.y) <= p.max_distance
     return _point_tally(t.xy, true, det_to_ann, counted_d, counted_a)
-
-
-# -- summary -------------------------------------------------------------------------------
-
-
-def summarize(tally: Tally) -> dict[str, float | int | None]:
-    """The figures of one kind: counts, precision, recall, error medians and 90th percentiles
-    (None where there is nothing to compute them from)."""
-    e = np.asarray(tally.errors, dtype=float).reshape(-1, 3)
-    dist = np.abs(e[:, 1] - e[:, 0])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel = dist / e[:, 0]
-    rel = rel[np.isfinite(rel)]
-
-    def q(a: NDArray[np.float64], level: float) -> float | None:
-        return float(np.quantile(a, level)) if len(a) else None
-
-    return {
-        "annotations": tally.annotations,
-        "detections": tally.detections,
-        "tp": tally.tp,
-        "fp": tally.fp,
-        "fn": tally.fn,
-        "precision": tally.tp_det / tally.detections if tally.detections else None,
-        "recall": tally.tp / tally.annotations if tally.annotations else None,
-        "matched": len(e),
-        "distance_error_median_m": q(dist, 0.5),
-        "distance_error_p90_m": q(dist, 0.9),
-        "relative_distance_error_median": q(rel, 0.5),
-        "relative_distance_error_p90": q(rel, 0.9),
-        "bearing_error_median_deg": q(e[:, 2], 0.5),
-        "bearing_error_p90_deg": q(e[:, 2], 0.9),
-        "label_accuracy": tally.label_correct / tally.label_checked if tally.label_checked else None,
-        "label_checked": tally.label_checked,
-        "recall_by_distance": _recall_bins(tally.found),
-    }
-
-
-DISTANCE_BINS = (0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0)
-"""Bin edges (m) of ``recall_by_distance`` in metrics.json."""
-
-
-def _recall_bins(found: list[tuple[float, bool]]) -> list[dict[str, Any]]:
-    """Recall per true-distance bin of :data:`DISTANCE_BINS` (point kinds; empty for lines)."""
-    f = np.asarray(found, dtype=float).reshape(-1, 2)
-    out = []
-    for lo, hi in itertools.pairwise(DISTANCE_BINS):
-        sel = (f[:, 0] >= lo) & (f[:, 0] < hi)
-        n = int(sel.sum())
-        out.append({"from_m": lo, "to_m": hi, "annotations": n, "recall": float(f[sel, 1].mean()) if n else None})
-    return out if len(f) else []
-
-
-BARS: tuple[tuple[str, str, str, float], ...] = (
-    ("crossing", "precision", ">=", 0.95),
-    ("crossing", "recall", ">=", 0.80),
-    ("post", "precision", ">=", 0.97),
-    ("post", "recall", ">=", 0.97),
-    ("post", "label_accuracy", ">=", 0.97),
-    ("ball", "precision", ">=", 0.95),
-    ("ball", "recall", ">=", 0.95),
-    ("circle", "recall", ">=", 0.70),
-    *((k, "relative_distance_error_median", "<", 0.05) for k in ("post", "crossing", "circle", "mark", "ball")),
-)
-"""(kind, figure, comparison, bound) of the vision issue (module docstring)."""
-
-
-def check_bars(kinds: dict[str, dict[str, Any]]) -> list[dict[str, Any]]:
-    """Each bar with the measured value and whether it holds (a missing value does not)."""
-    out = []
-    for kind, name, op, bound in BARS:
-        value = kinds[kind][name]
-        ok = value is not None and (value >= bound if op == ">=" else value < bound)
-        out.append({"kind": kind, "figure": name, "op": op, "bound": bound, "value": value, "ok": bool(ok)})
-    return out
-
-
-def format_table(kinds: dict[str, dict[str, Any]]) -> str:
-    """The table of one method (one row per kind of :data:`KINDS`)."""
-
-    def f(v: Any, spec: str, scale: float = 1.0) -> str:
-        return format(v * scale, spec) if v is not None else "-".rjust(int(spec.split(".")[0]))
-
-    head = (
-        f"{'kind':13s}{'ann':>6s}{'det':>6s}{'TP':>6s}{'FP':>5s}{'FN':>5s}{'prec':>7s}{'recall':>7s}"
-        f"{'dist med':>9s}{'p90':>6s}{'rel med':>8s}{'p90':>6s}{'brg med':>8s}{'p90':>6s}  label"
-    )
-    lines = [head, "-" * len(head)]
-    for name in KINDS:
-        s = kinds[name]
-        label = "-"
-        if s["label_accuracy"] is not None:
-            label = f"{LABELS.get(name, 'label')} {s['label_accuracy']:.3f} ({s['label_checked']})"
-        lines.append(
-            f"{name:13s}{s['annotations']:6d}{s['detections']:6d}{s['tp']:6d}{s['fp']:5d}{s['fn']:5d}"
-            f"{f(s['precision'], '7.3f')}{f(s['recall'], '7.3f')}"
-            f"{f(s['distance_error_median_m'], '9.3f')}{f(s['distance_error_p90_m'], '6.2f')}"
-            f"{f(s['relative_distance_error_median'], '8.3f')}{f(s['relative_distance_error_p90'], '6.3f')}"
-            f"{f(s['bearing_error_median_deg'], '8.2f')}{f(s['bearing_error_p90_deg'], '6.2f')}  {label}"
-        )
-    lines.append(
-        "dist: |measured - true distance| (m), rel: the same / true distance, brg: bearing error (deg), median and "
-        "90th percentile; lines: distance to the line and direction error"
-    )
-    return "\n".join(lines)
-
-
-def format_recall_by_distance(kinds: dict[str, dict[str, Any]]) -> str:
-    """Recall per true-distance bin (:data:`DISTANCE_BINS`) of the kinds with annotations."""
-    edges = DISTANCE_BINS
-    head = "recall by true distance (m): " + " ".join(f"{a:g}-{b:g}".rjust(7) for a, b in itertools.pairwise(edges))
-    lines = [head]
-    for name in KINDS:
-        bins = kinds[name]["recall_by_distance"]
-        if name == "crossing_any" or not bins:
-            continue
-        cells = [("-" if b["recall"] is None else f"{b['recall']:.2f}").rjust(7) for b in bins]
-        lines.append(f"  {name:27s}" + " ".join(cells))
-    return "\n".join(lines)

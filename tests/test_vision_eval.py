@@ -23,18 +23,10 @@ from cognition.field import FIELD_PRESETS, Field
 from cognition.percepts import N_COLS, N_KINDS, Col, Kind, Percepts, PostSide, RobotTeam
 from cognition.vision.draw import COLOURS, TEAM_COLOURS, draw_percepts, percept_pixels
 from scenarios import vision_eval
+from scenarios.vision_assign import greedy_match, labels_agree, match_lines
 from scenarios.vision_eval import EvalFrame, frame_generators, make_frames
-from scenarios.vision_match import (
-    KINDS,
-    EvalParams,
-    Tally,
-    crossings_classifiable,
-    evaluate_frame,
-    greedy_match,
-    labels_agree,
-    match_lines,
-    summarize,
-)
+from scenarios.vision_match import KINDS, EvalParams, Tally, crossings_classifiable, evaluate_frame
+from scenarios.vision_report import summarize
 from teamsim.cli import main
 from teamsim.images import ImageAnnotations, ImageRenderer
 from teamsim.percepts import Scene, SceneRobot

@@ -4,7 +4,8 @@ The evaluation of the vision issue runs 500 frames per colour scheme (see the RE
 vision section for the full tables); here 150 random frames per scheme and line method, with
 the ``default`` image effects (noise, blur, uneven light), must reach bounds a little below
 what the full evaluation measures, so that a change that breaks a detector fails the suite
-but the statistics of 150 frames do not. Counting rules: :mod:`scenarios.vision_match`.
+but the statistics of 150 frames do not. Counting rules: :mod:`scenarios.vision_match`, figures:
+:mod:`scenarios.vision_report`.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import pytest
 from cognition.field import FIELD_PRESETS, Field
 from scenarios.vision_eval import evaluate as run_evaluation
 from scenarios.vision_eval import frame_generators, make_frames
-from scenarios.vision_match import summarize
+from scenarios.vision_report import summarize
 
 FIELD = Field(FIELD_PRESETS["spl2025"], "spl2025")
 FRAMES = 150
