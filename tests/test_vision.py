@@ -13,6 +13,7 @@ import math
 import cv2
 import numpy as np
 import pytest
+from helpers import clip_front
 
 from cognition.camera import CameraMatrix, CameraRig, torso_rotation
 from cognition.field import FIELD_PRESETS, Field
@@ -64,25 +65,11 @@ def paint(
 
 def _fill(img: np.ndarray, camera: CameraMatrix, polygon: np.ndarray, colour: tuple[int, int, int]) -> None:
     """Fill a ground polygon (clipped to the part in front of the camera)."""
-    pts = _clip_front(camera, polygon)
+    pts = clip_front(camera, polygon)
     if len(pts) < 3:
         return
     uv, _ = camera.project(pts)
     cv2.fillPoly(img, [np.round(uv * 16).astype(np.int32)], colour, lineType=cv2.LINE_AA, shift=4)
-
-
-def _clip_front(camera: CameraMatrix, poly: np.ndarray, near: float = 0.05) -> np.ndarray:
-    """Sutherland-Hodgman clip of a polygon to camera depth >= near."""
-    depth = (poly - camera.position) @ camera.rotation[:, 0]
-    out = []
-    for k in range(len(poly)):
-        a, b = poly[k], poly[(k + 1) % len(poly)]
-        da, db = depth[k], depth[(k + 1) % len(poly)]
-        if da >= near:
-            out.append(a)
-        if (da >= near) != (db >= near):
-            out.append(a + (b - a) * (near - da) / (db - da))
-    return np.array(out).reshape(-1, 3)
 
 
 def _camera(yaw: float = 0.0, pitch: float = 0.25, roll: float = 0.0, torso_pitch: float = 0.0) -> CameraMatrix:

@@ -15,6 +15,7 @@ import math
 import cv2
 import numpy as np
 import pytest
+from helpers import clip_front
 
 from cognition.camera import CameraMatrix, CameraRig
 from cognition.field import FIELD_PRESETS, Field
@@ -48,23 +49,10 @@ def carpet(cam: CameraMatrix) -> np.ndarray:
 
 def fill_ground(img: np.ndarray, cam: CameraMatrix, poly: list[tuple[float, float]], cls: int) -> None:
     """Fill a ground polygon (robot frame, m), clipped to the part in front of the camera."""
-    pts = _clip_front(cam, np.array([(x, y, 0.0) for x, y in poly]))
+    pts = clip_front(cam, np.array([(x, y, 0.0) for x, y in poly]))
     if len(pts) >= 3:
         uv, _ = cam.project(pts)
         _fill(img, uv, cls)
-
-
-def _clip_front(cam: CameraMatrix, poly: np.ndarray, near: float = 0.05) -> np.ndarray:
-    depth = (poly - cam.position) @ cam.rotation[:, 0]
-    out = []
-    for k in range(len(poly)):
-        a, b = poly[k], poly[(k + 1) % len(poly)]
-        da, db = depth[k], depth[(k + 1) % len(poly)]
-        if da >= near:
-            out.append(a)
-        if (da >= near) != (db >= near):
-            out.append(a + (b - a) * (near - da) / (db - da))
-    return np.array(out).reshape(-1, 3)
 
 
 def fill_cylinder(

@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.vision.projection import ground_nb
+from cognition.vision.segments import grid_nb
 
 _DEG = math.pi / 180.0
 GREEN = 1
@@ -335,18 +336,7 @@ def _merge(
         return segs
     gw = int(width / radius) + 1
     gh = int(height / radius) + 1
-    count = np.zeros(gw * gh + 1, dtype=np.int64)
-    key = np.empty(n, dtype=np.int64)
-    for p in range(n):
-        key[p] = min(gh - 1, int(pts[p, _V] / radius)) * gw + min(gw - 1, int(pts[p, _U] / radius))
-        count[key[p] + 1] += 1
-    for c in range(gw * gh):
-        count[c + 1] += count[c]
-    order = np.empty(n, dtype=np.int64)
-    fill = count[:-1].copy()
-    for p in range(n):
-        order[fill[key[p]]] = p
-        fill[key[p]] += 1
+    count, order = grid_nb(pts, radius, gw, gh)  # pixels (_U, _V are columns 0, 1)
     members = np.empty(n, dtype=np.int64)
     perp_tol = max(1.5, 0.25 * radius)
     ns = 0

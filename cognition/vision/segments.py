@@ -98,8 +98,9 @@ def _add(sums: NDArray[np.float64], x: float, y: float) -> None:  # pragma: no c
 
 
 @nb.njit(cache=True)
-def _grid(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  # pragma: no cover
-    """Bucket the points into a gw x gh grid (CSR: start offsets and point order)."""
+def grid_nb(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  # pragma: no cover
+    """Bucket the points (columns 0, 1: their coordinates) into a gw x gh grid of ``cell``-sized
+    cells (CSR: start offsets per cell and the point order)."""
     n = pts.shape[0]
     count = np.zeros(gw * gh + 1, dtype=np.int64)
     key = np.empty(n, dtype=np.int64)
@@ -245,7 +246,7 @@ def segments_nb(
     cell = max(gap, 1.0)
     gw = int(width / cell) + 1
     gh = int(height / cell) + 1
-    start, order = _grid(pts, cell, gw, gh)
+    start, order = grid_nb(pts, cell, gw, gh)
     used = np.zeros(n, dtype=np.bool_)
     chain = np.empty(2 * n + 2, dtype=np.int64)
     sums = np.zeros(6)
