@@ -94,6 +94,46 @@ def test_sectors_keep_the_nearest_obstacle_and_forget(frames_with_truth):
     assert len(model.obstacles) == 0  # older than the memory
 
 
+def _reference_sectors_update(distance, stamp, memory, time, o, percepts):
+    """The plain numpy sector update the compiled kernel replaced (the reference)."""
+    known = np.isfinite(distance) & (time - stamp <= memory)
+    ang = (np.arange(SECTORS) + 0.5) * (2 * math.pi / SECTORS) - math.pi
+    pts = np.column_stack([distance[known] * np.cos(ang[known]), distance[known] * np.sin(ang[known])])
+    stamps = stamp[known]
+    c, s = math.cos(o.dtheta), math.sin(o.dtheta)
+    px, py = pts[:, 0] - o.dx, pts[:, 1] - o.dy
+    pts = np.column_stack([c * px + s * py, -s * px + c * py])
+    distance[:] = np.inf
+    stamp[:] = -np.inf
+
+    def put(x, y, t):
+        k = int((math.atan2(y, x) + math.pi) / (2 * math.pi) * SECTORS) % SECTORS
+        d = math.hypot(x, y)
+        if d < distance[k] or t > stamp[k]:
+            distance[k], stamp[k] = d, t
+
+    for (x, y), t in zip(pts, stamps, strict=True):
+        put(x, y, t)
+    if percepts is not None:
+        for r in percepts.table(Kind.ROBOT).rows:
+            put(float(r[0]), float(r[1]), time)
+
+
+def test_sectors_match_the_plain_reference_frame_by_frame(frames_with_truth):
+    """The compiled sector update against the plain numpy one on a match's recorded frames."""
+    sec = ObstacleSectors(memory=2.0)
+    dist, stamp = np.full(SECTORS, np.inf), np.full(SECTORS, -np.inf)
+    held = 0
+    for f, _others in frames_with_truth:
+        model = sec.update(f.time, f.odometry, f.percepts)
+        _reference_sectors_update(dist, stamp, 2.0, f.time, f.odometry, f.percepts)
+        np.testing.assert_allclose(sec.distance, dist, rtol=1e-12)
+        np.testing.assert_array_equal(sec.stamp, stamp)
+        assert len(model.obstacles) == np.isfinite(dist).sum()
+        held += int(np.isfinite(dist).sum())
+    assert held > 0  # the frames did hold obstacles
+
+
 def test_bad_parameters_are_clear_errors():
     with pytest.raises(ValueError, match="log_free"):
         ObstacleGridParams(log_free=0.2)

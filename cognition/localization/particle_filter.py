@@ -95,10 +95,11 @@ from cognition.gamestate import GameStateId
 from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
+from cognition.localization.maturing import mature_nb, move_candidates_nb
 from cognition.localization.params import LocalizationParams
 from cognition.localization.places import placement_poses
 from cognition.localization.resetting import from_vision
-from cognition.localization.sensor import N_O, O, pack_observations, sensor_table
+from cognition.localization.sensor import N_O, pack_observations, sensor_table
 from cognition.representations import RobotPose, SensorFrame
 
 PARTICLE_VARIANTS = ("mcl", "lowvar", "amcl", "reset", "maturing")
@@ -157,7 +158,7 @@ class ParticleFilter(Localizer):
         self._spare = np.zeros((cap, 3))
         self.logw = np.zeros(cap)
         self.w = np.full(cap, 1.0 / cap)
-        self._ll = np.zeros(cap)
+        self._ll = np.zeros(max(cap, p.maturing_candidates))
         self._scratch = np.zeros((10, max(cap, p.maturing_candidates)))
         self._pose_out = np.zeros(14)
         self._pose_par = np.array([p.cluster_radius, 0.5, 0.5, p.jump_weight])
@@ -181,8 +182,10 @@ class ParticleFilter(Localizer):
         """Particles replaced by random or vision poses in the latest update."""
         self._last_resample = -1e9
         self._own_half = True
-        self._cand = np.zeros((0, 3))
-        self._cand_count = np.zeros(0, dtype=np.int64)
+        self._cand = np.zeros((p.maturing_candidates, 3))
+        """Maturing candidate poses (buffer; the first ``_nc`` rows are in use, :mod:`maturing`)."""
+        self._cand_count = np.zeros(p.maturing_candidates, dtype=np.int64)
+        self._nc = 0
         self._watched: deque[tuple[float, int, int]] = deque()
         """(time, unexplained observations, observations) of the observed frames in the safety net's window."""
         self._unexplained = 0
@@ -220,9 +223,9 @@ class ParticleFilter(Localizer):
         n = self.n
         self.parts[:n, :2] *= -1.0
         self.parts[:n, 2] = np.mod(self.parts[:n, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
-        if self._cand.shape[0]:
-            self._cand[:, :2] *= -1.0
-            self._cand[:, 2] = np.mod(self._cand[:, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
+        c = self._cand[: self._nc]
+        c[:, :2] *= -1.0
+        c[:, 2] = np.mod(c[:, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
         self._prev[3] = 0.0
 
     def on_placement(self, poses: NDArray[np.float64]) -> None:
@@ -249,8 +252,7 @@ class ParticleFilter(Localizer):
         self._watched.clear()
         self._unexplained = self._observed = 0
         self._relocalize = False
-        self._cand = np.zeros((0, 3))
-        self._cand_count = np.zeros(0, dtype=np.int64)
+        self._nc = 0
 
     @property
     def unexplained_share(self) -> float:
@@ -367,7 +369,7 @@ class ParticleFilter(Localizer):
         if v == "amcl":
             fresh = self._uniform_poses(m_inj)
         elif v == "reset":
-            fresh = from_vision(self.model, obs, m_inj, p.reset_from_any_feature, self.rng)
+            fresh = from_vision(self.model, obs, m_inj, p.reset_from_any_feature, self._state)
         else:
             fresh = self._matured(m_inj)
         if fresh.shape[0] == 0:
@@ -393,42 +395,22 @@ class ParticleFilter(Localizer):
         K.uniform_set_nb(fresh, 0, m, self.field.half_length, self.field.half_width, self._own_half, self._state)
         return fresh
 
-    # -- maturing candidates (Darmstadt VI) ------------------------------------------------
+    # -- maturing candidates (Darmstadt VI, :mod:`cognition.localization.maturing`) -------------
     def _move_candidates(self, dx: float, dy: float, dth: float) -> None:
-        if self._cand.shape[0]:
-            c, s = np.cos(self._cand[:, 2]), np.sin(self._cand[:, 2])
-            self._cand[:, 0] += c * dx - s * dy
-            self._cand[:, 1] += s * dx + c * dy
-            self._cand[:, 2] = np.mod(self._cand[:, 2] + dth + math.pi, 2 * math.pi) - math.pi
+        move_candidates_nb(self._cand, self._nc, dx, dy, dth)
 
     def _mature(self, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
         """Score the candidates against this frame; drop the inconsistent; refill from vision."""
-        p = self.params
-        self._move_candidates(dx, dy, dth)
-        nc = self._cand.shape[0]
-        if nc:
-            ll = np.empty(nc)
-            m = self.model
-            cand = np.ascontiguousarray(self._cand)
-            strict = obs.copy()  # pure Gaussians: the floors would make anything look consistent
-            strict[:, O.CONF] = 1.0
-            strict[:, O.FLOOR] = 0.0
-            K.log_likelihood_nb(
-                cand, nc, strict, self._hough, m.posts, m.crossings, m.lines, m.marks, m.poles,
-                m.cross_grid, m.line_grid, m.geo, ll, self._scratch, np.full(nc, 1.0 / nc), np.empty(obs.shape[0]),
-            )  # fmt: skip
-            good = np.exp(ll / obs.shape[0]) >= p.maturing_consistency
-            self._cand_count = np.where(good, self._cand_count + 1, 0)
-            keep = self._cand_count > 0
-            self._cand, self._cand_count = self._cand[keep], self._cand_count[keep]
-        room = p.maturing_candidates - self._cand.shape[0]
-        if room >= max(1, p.maturing_candidates // 4):  # refill in batches, not every frame
-            fresh = from_vision(self.model, obs, room, True, self.rng)
-            self._cand = np.concatenate([self._cand, fresh])
-            self._cand_count = np.concatenate([self._cand_count, np.zeros(fresh.shape[0], dtype=np.int64)])
+        m = self.model
+        self._nc = mature_nb(
+            self._cand, self._cand_count, self._nc, obs, dx, dy, dth, self.params.maturing_consistency, self._hough,
+            m.posts, m.crossings, m.lines, m.marks, m.poles, m.cross_grid, m.line_grid, m.geo, self._ll, self._scratch,
+            self._state,
+        )  # fmt: skip
 
     def _matured(self, m: int) -> NDArray[np.float64]:
-        ready = self._cand[self._cand_count >= self.params.maturing_threshold]
+        nc = self._nc
+        ready = self._cand[:nc][self._cand_count[:nc] >= self.params.maturing_threshold]
         if ready.shape[0] == 0:
             return np.zeros((0, 3))
         out = np.empty((m, 3))
@@ -438,8 +420,8 @@ class ParticleFilter(Localizer):
     @property
     def candidates(self) -> NDArray[np.float64]:
         """Maturing candidate poses (C x 3) and, in :attr:`candidate_counts`, their ages."""
-        return self._cand.copy()
+        return self._cand[: self._nc].copy()
 
     @property
     def candidate_counts(self) -> NDArray[np.int64]:
-        return self._cand_count.copy()
+        return self._cand_count[: self._nc].copy()

@@ -14,119 +14,209 @@ Noise from the observation's own distance and bearing sigmas is added to every s
 Ambiguous features (white goals, crossings, marks) draw their map landmark at random for
 every sample, so samples appear at every symmetric place at once.
 All poses are (x m, y m, theta rad) in the team frame; observations in the robot frame.
+
+The samplers are compiled (numba) and draw from the filter's own xorshift64* state
+(:func:`kernels.rand_u`, :func:`kernels.rand_n`, a uint64 array of length 1) like the other
+particle-filter kernels: they run at most frames of the ``maturing`` and ``reset`` filters,
+where the Python loop over samples cost hundreds of microseconds per frame, and passing a
+``numpy.random.Generator`` into compiled code costs over 20 us per call.
+``tests/test_resetting.py`` checks them draw for draw against a plain Python reference.
 """
 
 from __future__ import annotations
 
 import math
 
+import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
 from cognition.localization.fieldmodel import FieldModel
+from cognition.localization.kernels import rand_n, rand_u
 from cognition.localization.sensor import O, T
 
+_POST, _CROSS, _LINE, _CIRCLE, _MARK, _POLE = (
+    int(T.POST),
+    int(T.CROSS),
+    int(T.LINE),
+    int(T.CIRCLE),
+    int(T.MARK),
+    int(T.POLE),
+)
+_TYPE, _X, _Y, _A, _B = int(O.TYPE), int(O.X), int(O.Y), int(O.A), int(O.B)
+_SR, _SB, _DIST, _BEAR = int(O.SR), int(O.SB), int(O.DIST), int(O.BEAR)
 
-def _post_candidates(model: FieldModel, ob: NDArray[np.float64]) -> NDArray[np.int64]:
-    side, goal = ob[O.A], ob[O.B]
-    p = model.posts
-    ok = np.ones(p.shape[0], dtype=bool)
-    if side > 0.5:
-        ok &= p[:, 2] == side
-    if goal > -0.5:
-        ok &= p[:, 3] == goal
-    return np.flatnonzero(ok)
+
+@nb.njit(cache=True)
+def _post_candidates(posts, ob):  # pragma: no cover - compiled
+    """Indices of the map posts (``FieldModel.posts`` rows) observation ``ob`` may be."""
+    side, goal = ob[_A], ob[_B]
+    out = np.empty(posts.shape[0], dtype=np.int64)
+    k = 0
+    for i in range(posts.shape[0]):
+        if side > 0.5 and posts[i, 2] != side:
+            continue
+        if goal > -0.5 and posts[i, 3] != goal:
+            continue
+        out[k] = i
+        k += 1
+    return out[:k]
 
 
-def _landmarks(model: FieldModel, ob: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Map positions (K x 2) a single observation may be."""
-    t = int(ob[O.TYPE])
-    if t == T.POST:
-        return model.posts[_post_candidates(model, ob), :2]
-    if t == T.CROSS:
-        return model.crossings[model.crossings[:, 3] == ob[O.A], :2]
-    if t == T.CIRCLE:
+@nb.njit(cache=True)
+def _landmarks(posts, crossings, marks, poles, ob):  # pragma: no cover - compiled
+    """Map positions (K x 2, team frame, m) a single observation may be."""
+    t = int(ob[_TYPE])
+    if t == _POST:
+        idx = _post_candidates(posts, ob)
+        out = np.empty((idx.shape[0], 2))
+        for k in range(idx.shape[0]):
+            out[k, 0], out[k, 1] = posts[idx[k], 0], posts[idx[k], 1]
+        return out
+    if t == _CROSS:
+        n = 0
+        for i in range(crossings.shape[0]):
+            if crossings[i, 3] == ob[_A]:
+                n += 1
+        out = np.empty((n, 2))
+        n = 0
+        for i in range(crossings.shape[0]):
+            if crossings[i, 3] == ob[_A]:
+                out[n, 0], out[n, 1] = crossings[i, 0], crossings[i, 1]
+                n += 1
+        return out
+    if t == _CIRCLE:
         return np.zeros((1, 2))
-    if t == T.MARK:
-        return model.marks
-    if t == T.POLE:
-        return model.poles
+    if t == _MARK:
+        return marks.copy()
+    if t == _POLE:
+        return poles.copy()
     return np.zeros((0, 2))
 
 
-def around_feature(model: FieldModel, ob: NDArray[np.float64], m: int, rng: np.random.Generator) -> NDArray[np.float64]:
-    """``m`` poses on circles of the measured distance around the landmarks ``ob`` may be."""
-    marks = _landmarks(model, ob)
-    if marks.shape[0] == 0 or m <= 0:
+@nb.njit(cache=True)
+def _around_feature_nb(posts, crossings, marks, poles, ob, m, state):  # pragma: no cover - compiled
+    """See :func:`around_feature`."""
+    lm = _landmarks(posts, crossings, marks, poles, ob)
+    if lm.shape[0] == 0 or m <= 0:
         return np.zeros((0, 3))
-    pick = marks[rng.integers(0, marks.shape[0], m)]
-    d = np.maximum(ob[O.DIST] + ob[O.SR] * rng.standard_normal(m), 0.05)
-    bear = ob[O.BEAR] + ob[O.SB] * rng.standard_normal(m)
-    phi = rng.uniform(-math.pi, math.pi, m)
-    x = pick[:, 0] + d * np.cos(phi)
-    y = pick[:, 1] + d * np.sin(phi)
-    th = np.arctan2(-np.sin(phi), -np.cos(phi)) - bear
-    return np.column_stack([x, y, np.mod(th + math.pi, 2 * math.pi) - math.pi])
+    out = np.empty((m, 3))
+    n_lm = lm.shape[0]
+    for k in range(m):
+        pick = min(int(rand_u(state) * n_lm), n_lm - 1)
+        d = max(ob[_DIST] + ob[_SR] * rand_n(state), 0.05)
+        bear = ob[_BEAR] + ob[_SB] * rand_n(state)
+        phi = -math.pi + 2.0 * math.pi * rand_u(state)
+        c, s = math.cos(phi), math.sin(phi)
+        out[k, 0] = lm[pick, 0] + d * c
+        out[k, 1] = lm[pick, 1] + d * s
+        out[k, 2] = (math.atan2(-s, -c) - bear + math.pi) % (2 * math.pi) - math.pi
+    return out
 
 
-def from_two_posts(
-    model: FieldModel, a: NDArray[np.float64], b: NDArray[np.float64], m: int, rng: np.random.Generator
-) -> NDArray[np.float64]:
-    """``m`` poses from two post observations ``a``, ``b`` (circle intersections)."""
-    pairs = [
-        (i, j)
-        for i in _post_candidates(model, a)
-        for j in _post_candidates(model, b)
-        if i != j and model.posts[i, 3] == model.posts[j, 3]
-    ]
-    if not pairs or m <= 0:
+@nb.njit(cache=True)
+def _two_posts_nb(posts, a, b, m, state):  # pragma: no cover - compiled
+    """See :func:`from_two_posts`."""
+    ca, cb = _post_candidates(posts, a), _post_candidates(posts, b)
+    pairs = np.empty((ca.shape[0] * cb.shape[0], 2), dtype=np.int64)
+    n_pairs = 0
+    for i in ca:
+        for j in cb:
+            if i != j and posts[i, 3] == posts[j, 3]:
+                pairs[n_pairs, 0], pairs[n_pairs, 1] = i, j
+                n_pairs += 1
+    if n_pairs == 0 or m <= 0:
         return np.zeros((0, 3))
-    order = math.copysign(1.0, a[O.X] * b[O.Y] - a[O.Y] * b[O.X])  # + if b is left of a
+    order = math.copysign(1.0, a[_X] * b[_Y] - a[_Y] * b[_X])  # + if b is left of a
     out = np.empty((m, 3))
     k = 0
     for _ in range(4 * m):
         if k == m:
             break
-        i, j = pairs[int(rng.integers(0, len(pairs)))]
-        p1, p2 = model.posts[i, :2], model.posts[j, :2]
-        r1 = max(a[O.DIST] + a[O.SR] * rng.standard_normal(), 0.05)
-        r2 = max(b[O.DIST] + b[O.SR] * rng.standard_normal(), 0.05)
-        dv = p2 - p1
-        dd = float(np.hypot(*dv))
+        q = min(int(rand_u(state) * n_pairs), n_pairs - 1)
+        i, j = pairs[q, 0], pairs[q, 1]
+        p1x, p1y, p2x, p2y = posts[i, 0], posts[i, 1], posts[j, 0], posts[j, 1]
+        r1 = max(a[_DIST] + a[_SR] * rand_n(state), 0.05)
+        r2 = max(b[_DIST] + b[_SR] * rand_n(state), 0.05)
+        dx, dy = p2x - p1x, p2y - p1y
+        dd = math.hypot(dx, dy)
         if dd < 1e-9 or dd > r1 + r2 or dd < abs(r1 - r2):
             continue
         along = (r1 * r1 - r2 * r2 + dd * dd) / (2 * dd)
         h = math.sqrt(max(r1 * r1 - along * along, 0.0))
-        base = p1 + along * dv / dd
-        perp = np.array([-dv[1], dv[0]]) / dd
+        bx, by = p1x + along * dx / dd, p1y + along * dy / dd
+        ex, ey = -dy / dd, dx / dd
         for sgn in (1.0, -1.0):
-            p = base + sgn * h * perp
-            e1, e2 = p1 - p, p2 - p
-            if math.copysign(1.0, e1[0] * e2[1] - e1[1] * e2[0]) != order:
+            px, py = bx + sgn * h * ex, by + sgn * h * ey
+            e1x, e1y, e2x, e2y = p1x - px, p1y - py, p2x - px, p2y - py
+            if math.copysign(1.0, e1x * e2y - e1y * e2x) != order:
                 continue
-            bear = a[O.BEAR] + a[O.SB] * rng.standard_normal()
-            th = math.atan2(e1[1], e1[0]) - bear
-            out[k] = (p[0], p[1], (th + math.pi) % (2 * math.pi) - math.pi)
+            bear = a[_BEAR] + a[_SB] * rand_n(state)
+            th = math.atan2(e1y, e1x) - bear
+            out[k, 0], out[k, 1] = px, py
+            out[k, 2] = (th + math.pi) % (2 * math.pi) - math.pi
             k += 1
             break
     return out[:k]
 
 
-def from_vision(
-    model: FieldModel, obs: NDArray[np.float64], m: int, any_feature: bool, rng: np.random.Generator
-) -> NDArray[np.float64]:
-    """Up to ``m`` reset poses from the observations (two posts, one post, or a random feature)."""
+@nb.njit(cache=True)
+def _from_vision_nb(posts, crossings, marks, poles, obs, m, any_feature, state):  # pragma: no cover - compiled
+    """See :func:`from_vision`."""
     if m <= 0 or obs.shape[0] == 0:
         return np.zeros((0, 3))
-    posts = obs[obs[:, O.TYPE] == T.POST]
-    if posts.shape[0] >= 2:
-        got = from_two_posts(model, posts[0], posts[1], m, rng)
+    first, second, n_posts, n_usable = -1, -1, 0, 0
+    for r in range(obs.shape[0]):
+        t = obs[r, _TYPE]
+        if t == _POST:
+            if n_posts == 0:
+                first = r
+            elif n_posts == 1:
+                second = r
+            n_posts += 1
+        if t != _LINE:
+            n_usable += 1
+    if n_posts >= 2:
+        got = _two_posts_nb(posts, obs[first], obs[second], m, state)
         if got.shape[0]:
             return got
-    if posts.shape[0] >= 1:
-        return around_feature(model, posts[0], m, rng)
-    if any_feature:
-        usable = obs[obs[:, O.TYPE] != T.LINE]
-        if usable.shape[0]:
-            return around_feature(model, usable[int(rng.integers(0, usable.shape[0]))], m, rng)
+    if n_posts >= 1:
+        return _around_feature_nb(posts, crossings, marks, poles, obs[first], m, state)
+    if any_feature and n_usable:
+        pick = min(int(rand_u(state) * n_usable), n_usable - 1)
+        for r in range(obs.shape[0]):
+            if obs[r, _TYPE] != _LINE:
+                if pick == 0:
+                    return _around_feature_nb(posts, crossings, marks, poles, obs[r], m, state)
+                pick -= 1
     return np.zeros((0, 3))
+
+
+def around_feature(
+    model: FieldModel, ob: NDArray[np.float64], m: int, state: NDArray[np.uint64]
+) -> NDArray[np.float64]:
+    """``m`` poses (m x 3) on circles of the measured distance around the landmarks ``ob`` may be
+    (``state``: the filter's xorshift64* state, advanced)."""
+    return _around_feature_nb(model.posts, model.crossings, model.marks, model.poles, _row(ob), int(m), state)
+
+
+def from_two_posts(
+    model: FieldModel, a: NDArray[np.float64], b: NDArray[np.float64], m: int, state: NDArray[np.uint64]
+) -> NDArray[np.float64]:
+    """Up to ``m`` poses (k x 3) from two post observations ``a``, ``b`` (circle intersections)."""
+    return _two_posts_nb(model.posts, _row(a), _row(b), int(m), state)
+
+
+def from_vision(
+    model: FieldModel, obs: NDArray[np.float64], m: int, any_feature: bool, state: NDArray[np.uint64]
+) -> NDArray[np.float64]:
+    """Up to ``m`` reset poses (k x 3) from the observations (two posts, one post, or a random
+    feature when ``any_feature``); ``obs``: observation rows (:func:`sensor.pack_observations`)."""
+    rows = np.ascontiguousarray(obs, dtype=np.float64)
+    return _from_vision_nb(
+        model.posts, model.crossings, model.marks, model.poles, rows, int(m), bool(any_feature), state
+    )
+
+
+def _row(ob: NDArray[np.float64]) -> NDArray[np.float64]:
+    return np.ascontiguousarray(ob, dtype=np.float64)

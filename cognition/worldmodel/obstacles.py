@@ -46,6 +46,7 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
+import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
@@ -199,32 +200,68 @@ class ObstacleSectors:
     def update(self, time: float, odometry: OdometryReading, percepts: Percepts | None) -> ObstacleModel:
         """Move with the odometry (per sector's obstacle point), forget old ones, add percepts."""
         self.time = time
-        known = np.isfinite(self.distance) & (time - self.stamp <= self.memory)
-        ang = (np.arange(SECTORS) + 0.5) * (2 * math.pi / SECTORS) - math.pi
-        pts = np.column_stack([self.distance[known] * np.cos(ang[known]), self.distance[known] * np.sin(ang[known])])
-        stamps = self.stamp[known]
         o = odometry
-        c, s = math.cos(o.dtheta), math.sin(o.dtheta)
-        px, py = pts[:, 0] - o.dx, pts[:, 1] - o.dy
-        pts = np.column_stack([c * px + s * py, -s * px + c * py])
-        self.distance[:] = np.inf
-        self.stamp[:] = -np.inf
-        for (x, y), t in zip(pts, stamps, strict=True):
-            self._set(x, y, t)
-        if percepts is not None:
-            for r in percepts.table(Kind.ROBOT).rows:
-                self._set(float(r[Col.X]), float(r[Col.Y]), time)
+        robots = _NO_ROBOTS if percepts is None else percepts.table(Kind.ROBOT).rows
+        _sectors_update_nb(self.distance, self.stamp, time, self.memory, o.dx, o.dy, o.dtheta, robots, _CX, _CY)
         return self.model()
 
-    def _set(self, x: float, y: float, t: float) -> None:
-        k = int((math.atan2(y, x) + math.pi) / (2 * math.pi) * SECTORS) % SECTORS
-        d = math.hypot(x, y)
-        if d < self.distance[k] or t > self.stamp[k]:
-            self.distance[k], self.stamp[k] = d, t
-
     def model(self) -> ObstacleModel:
-        known = np.isfinite(self.distance)
-        ang = (np.arange(SECTORS) + 0.5) * (2 * math.pi / SECTORS) - math.pi
-        d = self.distance[known]
-        pts = np.column_stack([d * np.cos(ang[known]), d * np.sin(ang[known])]) if known.any() else np.zeros((0, 2))
-        return ObstacleModel(pts, None, 0.0)
+        """The sectors' obstacle points (robot frame, m; one per sector that holds one)."""
+        return ObstacleModel(_sector_points_nb(self.distance), None, 0.0)
+
+
+_NO_ROBOTS = np.zeros((0, len(Col)))
+_CX, _CY = int(Col.X), int(Col.Y)
+
+
+@nb.njit(cache=True)
+def _sector_set(distance, stamp, x, y, t):  # pragma: no cover - compiled
+    """Put the obstacle point (x, y) (robot frame, m) seen at ``t`` into its sector: the nearer
+    or the newer of it and the sector's point wins."""
+    k = int((math.atan2(y, x) + math.pi) / (2 * math.pi) * SECTORS) % SECTORS
+    d = math.hypot(x, y)
+    if d < distance[k] or t > stamp[k]:
+        distance[k], stamp[k] = d, t
+
+
+@nb.njit(cache=True)
+def _sectors_update_nb(distance, stamp, time, memory, dx, dy, dth, robots, cx, cy):  # pragma: no cover - compiled
+    """One frame of :class:`ObstacleSectors` in place: move the remembered points by the
+    odometry (dx, dy m, dth rad: the robot's motion in its old frame), drop those older than
+    ``memory`` s, then add the robot percepts (rows of ``robots``, point at columns cx, cy)."""
+    step = 2 * math.pi / SECTORS
+    px = np.empty(SECTORS)
+    py = np.empty(SECTORS)
+    ts = np.empty(SECTORS)
+    n = 0
+    for k in range(SECTORS):
+        if np.isfinite(distance[k]) and time - stamp[k] <= memory:
+            a = (k + 0.5) * step - math.pi
+            px[n], py[n], ts[n] = distance[k] * np.cos(a), distance[k] * np.sin(a), stamp[k]
+            n += 1
+    c, s = math.cos(dth), math.sin(dth)
+    distance[:] = np.inf
+    stamp[:] = -np.inf
+    for k in range(n):
+        x, y = px[k] - dx, py[k] - dy
+        _sector_set(distance, stamp, c * x + s * y, -s * x + c * y, ts[k])
+    for r in range(robots.shape[0]):
+        _sector_set(distance, stamp, robots[r, cx], robots[r, cy], time)
+
+
+@nb.njit(cache=True)
+def _sector_points_nb(distance):  # pragma: no cover - compiled
+    """Obstacle points (K x 2, robot frame, m) of the sectors that hold one."""
+    step = 2 * math.pi / SECTORS
+    n = 0
+    for k in range(SECTORS):
+        if np.isfinite(distance[k]):
+            n += 1
+    out = np.empty((n, 2))
+    n = 0
+    for k in range(SECTORS):
+        if np.isfinite(distance[k]):
+            a = (k + 0.5) * step - math.pi
+            out[n, 0], out[n, 1] = distance[k] * np.cos(a), distance[k] * np.sin(a)
+            n += 1
+    return out
