@@ -244,6 +244,21 @@ class CameraMatrix:
             v = np.where(front, s.cy - s.fy * q[:, 2] / q[:, 0], np.nan)
         return np.stack([u, v], axis=1), front
 
+    def sees(self, x: float, y: float, z: float) -> bool:
+        """True if the robot-frame point (x, y, z) (m) is in front of the camera and projects
+        inside the image: :meth:`project` then :meth:`in_image` for one point, without arrays
+        (the world model asks this for single points every frame)."""
+        c, r = self.position, self.rotation
+        dx, dy, dz = x - float(c[0]), y - float(c[1]), z - float(c[2])
+        qx = dx * float(r[0, 0]) + dy * float(r[1, 0]) + dz * float(r[2, 0])
+        if not qx > 1e-9:
+            return False
+        qy = dx * float(r[0, 1]) + dy * float(r[1, 1]) + dz * float(r[2, 1])
+        qz = dx * float(r[0, 2]) + dy * float(r[1, 2]) + dz * float(r[2, 2])
+        s = self.spec
+        u, v = s.cx - s.fx * qy / qx, s.cy - s.fy * qz / qx
+        return 0.0 <= u < s.width and 0.0 <= v < s.height
+
     def in_image(self, uv: ArrayLike) -> NDArray[np.bool_]:
         """True for pixels inside the image (NaN pixels are outside)."""
         a = np.atleast_2d(np.asarray(uv, dtype=np.float64))

@@ -46,6 +46,26 @@ def visible_points(cam: CameraMatrix, yaw: float, z: float, seed: int, n: int = 
 
 
 @pytest.mark.parametrize("camera", CAMERA_NAMES)
+def test_sees_agrees_with_project_and_in_image(camera: str) -> None:
+    """The scalar check for one point gives what project + in_image give, for random points
+    around the robot (in front, behind, at the image border) and tilted torsos."""
+    g = np.random.default_rng(3)
+    seen = total = 0
+    for _ in range(20):
+        cam = RIG.camera_matrix(
+            camera, g.uniform(-2, 2), g.uniform(-0.6, 0.5), torso_roll=g.uniform(-0.1, 0.1),
+            torso_pitch=g.uniform(-0.1, 0.1),
+        )  # fmt: skip
+        pts = np.column_stack([g.uniform(-5, 5, 400), g.uniform(-5, 5, 400), g.uniform(-0.1, 0.6, 400)])
+        uv, front = cam.project(pts)
+        want = front & cam.in_image(uv)
+        got = np.array([cam.sees(*p) for p in pts])
+        np.testing.assert_array_equal(got, want)
+        seen, total = seen + int(want.sum()), total + want.size
+    assert 0.02 * total < seen < 0.5 * total, (seen, total)  # both answers were checked, often
+
+
+@pytest.mark.parametrize("camera", CAMERA_NAMES)
 @pytest.mark.parametrize(("yaw", "pitch"), HEAD_ANGLES)
 @pytest.mark.parametrize("z", [0.0, 0.05])
 def test_projection_round_trip(camera: str, yaw: float, pitch: float, z: float) -> None:

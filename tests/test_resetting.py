@@ -280,3 +280,19 @@ def test_maturing_matches_the_plain_reference_over_a_walk(model: FieldModel) -> 
         assert s1[0] == s2[0]
         oldest = max(oldest, int(rn.max(initial=0)))
     assert oldest >= 7  # candidates did mature (the default maturing_threshold)
+
+
+def test_choose_draws_distinct_indices_uniformly() -> None:
+    """Injection slots: ``m`` distinct indices of ``n``, each index equally likely (chi-square
+    over 20,000 draws), and the whole range at m = n."""
+    from scipy.stats import chisquare
+
+    state = np.array([12345], dtype=np.uint64)
+    hits = np.zeros(30, dtype=np.int64)
+    for _ in range(20_000):
+        got = K.choose_nb(30, 4, state)
+        assert len(set(got.tolist())) == 4 and got.min() >= 0 and got.max() < 30
+        hits[got] += 1
+    assert chisquare(hits).pvalue > 1e-3, hits
+    assert sorted(K.choose_nb(7, 7, state).tolist()) == list(range(7))
+    assert K.choose_nb(7, 0, state).shape == (0,)

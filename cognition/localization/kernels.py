@@ -449,6 +449,17 @@ def gaussian_set_nb(out, start, m, centres, sig_xy, sig_th, state):  # pragma: n
 
 
 @nb.njit(cache=True)
+def choose_nb(n, m, state):  # pragma: no cover - compiled
+    """``m`` distinct indices drawn uniformly from 0..n-1 (0 <= m <= n), in random order: the
+    first ``m`` steps of a Fisher-Yates shuffle, with the filter's own ``state``."""
+    idx = np.arange(n)
+    for i in range(m):
+        j = i + min(int(rand_u(state) * (n - i)), n - i - 1)
+        idx[i], idx[j] = idx[j], idx[i]
+    return idx[:m].copy()
+
+
+@nb.njit(cache=True)
 def uniform_set_nb(out, start, m, hl, hw, own_half, state):  # pragma: no cover - compiled
     """Fill rows [start, start + m) with uniform poses over the field (x in [-hl, hl] or the own
     half [-hl, 0]) and all headings; without ``own_half`` they come in mirrored pairs

@@ -322,7 +322,7 @@ class ParticleFilter(Localizer):
                 self._relocalize = False
                 self.relocalizations += 1
                 m = max(1, round(p.injection_max * self.n))
-                slots = self.rng.choice(self.n, size=m, replace=False)
+                slots = K.choose_nb(self.n, m, self._state)
                 self.parts[slots] = self._away_from_mirror(self._uniform_poses(m), pose)
                 self.logw[slots] = math.log(p.relocalize_weight)  # must explain the next frames far better
                 self.w[: self.n] = np.exp(self.logw[: self.n])
@@ -365,7 +365,7 @@ class ParticleFilter(Localizer):
         m_inj = int(self.rng.binomial(n_new, share)) if share > 0.0 else 0
         if m_inj == 0:
             return
-        slots = self.rng.choice(n_new, size=m_inj, replace=False)
+        slots = K.choose_nb(n_new, m_inj, self._state)
         if v == "amcl":
             fresh = self._uniform_poses(m_inj)
         elif v == "reset":

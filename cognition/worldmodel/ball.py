@@ -59,6 +59,11 @@ _BALL = int(Kind.BALL)
 _TEAM_VELOCITY_VAR = 1.0  # (m/s)^2: the message carries no velocity covariance
 
 
+_UNKNOWN_COV = np.eye(4) * 1e6
+_UNKNOWN_COV.flags.writeable = False
+"""The covariance of no ball (shared, read-only)."""
+
+
 class KalmanBallModel:
     """One robot's Kalman ball (module docstring); ``ball_radius`` in m from the field map,
     ``limits`` the largest abs(x), abs(y) (m, team frame) of a ball, ``None`` for no limit."""
@@ -182,22 +187,21 @@ class KalmanBallModel:
 
     # -- output ----------------------------------------------------------------------------
     def _output(self, pose: RobotPose | None) -> BallModel:
-        if self.x is not None and self.p is not None and not (np.isfinite(self.x).all() and np.isfinite(self.p).all()):
+        # a sum is finite only when every term is (NaN and infinities propagate)
+        if self.x is not None and self.p is not None and not math.isfinite(float(self.x.sum() + self.p.sum())):
             self.x = self.p = None  # NaN would read as a certain ball below (max(0, nan) is 0)
             self.source = "none"
         if self.x is None or self.p is None:
-            return BallModel(0.0, 0.0, 0.0, 0.0, np.eye(4) * 1e6, math.nan, math.nan, math.inf, "invalid", "none")
+            return BallModel(0.0, 0.0, 0.0, 0.0, _UNKNOWN_COV, math.nan, math.nan, math.inf, "invalid", "none")
         p = self.p
+        x0, x1, x2, x3 = self.x.tolist()
         sd = math.sqrt(max(0.0, 0.5 * float(p[0, 0] + p[1, 1])))  # finite here
         level: BallLevel = "valid" if sd < VALID_SIGMA else ("suspicious" if sd < SUSPICIOUS_SIGMA else "invalid")
         fx = fy = math.nan
         if pose is not None:
             c, s = math.cos(pose.theta), math.sin(pose.theta)
-            fx = pose.x + c * self.x[0] - s * self.x[1]
-            fy = pose.y + s * self.x[0] + c * self.x[1]
+            fx = pose.x + c * x0 - s * x1
+            fy = pose.y + s * x0 + c * x1
         age = (self.time or 0.0) - self.last_seen
         p.flags.writeable = False  # shared with the output: every update makes a new array
-        return BallModel(
-            float(self.x[0]), float(self.x[1]), float(self.x[2]), float(self.x[3]), p, fx, fy, age,
-            level, self.source,  # type: ignore[arg-type]
-        )  # fmt: skip
+        return BallModel(x0, x1, x2, x3, p, fx, fy, age, level, self.source)  # type: ignore[arg-type]

@@ -58,16 +58,24 @@ def goal_from_posts(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Left and right post positions (robot frame, m) from accurate bearings (rad) and the
     ratio of the measured distances, scaled so that the posts are ``separation`` m apart."""
+    lx, ly, rx, ry = _posts_xy(bearing_left, distance_left, bearing_right, distance_right, separation)
+    return np.array([lx, ly]), np.array([rx, ry])
+
+
+def _posts_xy(
+    bearing_left: float, distance_left: float, bearing_right: float, distance_right: float, separation: float
+) -> tuple[float, float, float, float]:
+    """:func:`goal_from_posts` as plain floats (left x, y, right x, y; m)."""
     if not (distance_left > 0 and distance_right > 0 and separation > 0):
         raise ValueError("post distances and separation must be > 0")
-    ul = np.array([math.cos(bearing_left), math.sin(bearing_left)])
-    ur = np.array([math.cos(bearing_right), math.sin(bearing_right)])
+    ulx, uly = math.cos(bearing_left), math.sin(bearing_left)
+    urx, ury = math.cos(bearing_right), math.sin(bearing_right)
     q = distance_left / distance_right
-    gap = float(np.linalg.norm(q * ul - ur))
+    gap = math.hypot(q * ulx - urx, q * uly - ury)
     if gap < 1e-9:
         raise ValueError("the two posts lie on one bearing; the goal is not determined")
     d_right = separation / gap
-    return q * d_right * ul, d_right * ur
+    return q * d_right * ulx, q * d_right * uly, d_right * urx, d_right * ury
 
 
 @dataclass(frozen=True)
@@ -139,18 +147,13 @@ class GoalModel:
         left, right = (a, b) if math.remainder(ba - bb, 2 * math.pi) > 0 else (b, a)
         bl, br = math.atan2(left[1], left[0]), math.atan2(right[1], right[0])
         try:
-            pl, pr = goal_from_posts(
+            plx, ply, prx, pry = _posts_xy(
                 bl, math.hypot(left[0], left[1]), br, math.hypot(right[0], right[1]), self.separation
             )
         except ValueError:
             return None
-        centre = 0.5 * (pl + pr)
-        along = pr - pl
-        normal = np.array([-along[1], along[0]])  # perpendicular to the goal line
-        if normal @ -centre < 0.0:  # point it toward the robot's side of the goal line
-            normal = -normal
-        facing = math.atan2(normal[1], normal[0])
-        return GoalEstimate(
-            float(centre[0]), float(centre[1]), (float(pl[0]), float(pl[1])), (float(pr[0]), float(pr[1])),
-            facing, min(left[2], right[2]),
-        )  # fmt: skip
+        cx, cy = 0.5 * (plx + prx), 0.5 * (ply + pry)
+        nx, ny = -(pry - ply), prx - plx  # perpendicular to the goal line
+        if -(nx * cx + ny * cy) < 0.0:  # point it toward the robot's side of the goal line
+            nx, ny = -nx, -ny
+        return GoalEstimate(cx, cy, (plx, ply), (prx, pry), math.atan2(ny, nx), min(left[2], right[2]))

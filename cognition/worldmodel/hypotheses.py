@@ -42,8 +42,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar
 
-import numpy as np
-
 from cognition.params import PROBABILITY, Ranges, check_ranges, non_negative, positive
 from cognition.percepts import Percepts
 from cognition.representations import BallLevel, RobotPose, SensorFrame
@@ -170,8 +168,7 @@ class BallHypotheses:
             rel = self._relative(h, pose)
             if rel is None or math.hypot(*rel) > self.params.view_distance:
                 continue
-            uv, front = cam.project(np.array([[rel[0], rel[1], 0.05]]))
-            if front[0] and cam.in_image(uv)[0]:
+            if cam.sees(rel[0], rel[1], 0.05):
                 h.confidence -= self.params.negative_per_second * dt
 
     def _teammates(self, team: Sequence[TeamMessage], pose: RobotPose | None) -> None:
