@@ -19,8 +19,13 @@ reset      CMU Alg. 4: the same share comes from vision (two-post intersection, 
            the per-observation evidence falls
 maturing   low variance; candidate poses generated from single observations are tracked with
            the odometry and scored against later frames; only those consistent for
-           ``maturing_threshold`` frames replace particles (Darmstadt VI)
+           ``maturing_threshold`` frames replace particles (Darmstadt VI,
+           :mod:`cognition.localization.maturing`)
 =========  ==================================================================================
+
+Vision poses come from :mod:`cognition.localization.resetting`. The compiled steps (motion
+noise, resampling, injected poses and their slots, resetting) draw from the filter's own
+xorshift64* state, seeded from its numpy Generator, which only draws the number of injections.
 
 **Recovery** (what each variant does when it is wrong, e.g. after the robot was moved without
 noticing, or after odometry that could not be trusted):
