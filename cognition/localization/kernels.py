@@ -61,6 +61,12 @@ def rand_u(state):  # pragma: no cover - compiled
     return float((x * _MUL) >> _S11) * _TWO53
 
 
+@nb.njit(cache=True, inline="always")
+def rand_index(state, n):  # pragma: no cover - compiled
+    """Uniform integer in [0, n) (n >= 1) from ``state`` (:func:`rand_u` scaled, clamped)."""
+    return min(int(rand_u(state) * n), n - 1)
+
+
 _NORMALS = np.random.default_rng(20261122).standard_normal(1 << 16)
 _NORMALS.setflags(write=False)
 """A fixed table of standard normals; :func:`rand_n` picks one with the filter's own state."""
@@ -454,7 +460,7 @@ def choose_nb(n, m, state):  # pragma: no cover - compiled
     first ``m`` steps of a Fisher-Yates shuffle, with the filter's own ``state``."""
     idx = np.arange(n)
     for i in range(m):
-        j = i + min(int(rand_u(state) * (n - i)), n - i - 1)
+        j = i + rand_index(state, n - i)
         idx[i], idx[j] = idx[j], idx[i]
     return idx[:m].copy()
 

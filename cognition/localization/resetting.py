@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.localization.fieldmodel import FieldModel
-from cognition.localization.kernels import rand_n, rand_u
+from cognition.localization.kernels import rand_index, rand_n, rand_u
 from cognition.localization.sensor import O, T
 
 _POST, _CROSS, _LINE, _CIRCLE, _MARK, _POLE = (
@@ -103,7 +103,7 @@ def _around_feature_nb(posts, crossings, marks, poles, ob, m, state):  # pragma:
     out = np.empty((m, 3))
     n_lm = lm.shape[0]
     for k in range(m):
-        pick = min(int(rand_u(state) * n_lm), n_lm - 1)
+        pick = rand_index(state, n_lm)
         d = max(ob[_DIST] + ob[_SR] * rand_n(state), 0.05)
         bear = ob[_BEAR] + ob[_SB] * rand_n(state)
         phi = -math.pi + 2.0 * math.pi * rand_u(state)
@@ -133,7 +133,7 @@ def _two_posts_nb(posts, a, b, m, state):  # pragma: no cover - compiled
     for _ in range(4 * m):
         if k == m:
             break
-        q = min(int(rand_u(state) * n_pairs), n_pairs - 1)
+        q = rand_index(state, n_pairs)
         i, j = pairs[q, 0], pairs[q, 1]
         p1x, p1y, p2x, p2y = posts[i, 0], posts[i, 1], posts[j, 0], posts[j, 1]
         r1 = max(a[_DIST] + a[_SR] * rand_n(state), 0.05)
@@ -183,7 +183,7 @@ def _from_vision_nb(posts, crossings, marks, poles, obs, m, any_feature, state):
     if n_posts >= 1:
         return _around_feature_nb(posts, crossings, marks, poles, obs[first], m, state)
     if any_feature and n_usable:
-        pick = min(int(rand_u(state) * n_usable), n_usable - 1)
+        pick = rand_index(state, n_usable)
         for r in range(obs.shape[0]):
             if obs[r, _TYPE] != _LINE:
                 if pick == 0:
