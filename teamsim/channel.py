@@ -22,6 +22,7 @@ Every value is checked against its range when the parameters are built
 from __future__ import annotations
 
 import heapq
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import ClassVar
 
@@ -85,6 +86,9 @@ class TeamChannel:
         self._seq = 0
         self.budget_left = [params.budget, params.budget]
         self.stats = [ChannelStats(), ChannelStats()]
+        self.taps: list[Callable[[int, int, bytes, float], None]] = []
+        """Called as ``tap(team, sender, payload, now)`` for every message accepted within the
+        budget, before delivery (the GameController bridge mirrors them onto UDP)."""
 
     def send(self, team: int, sender: int, payload: bytes, now: float) -> bool:
         """Broadcast ``payload`` from player ``sender`` of ``team``; False if refused."""
@@ -101,6 +105,8 @@ class TeamChannel:
         self.budget_left[team] -= 1
         stats.sent += 1
         msg = TeamMessageIn(sender=sender, payload=bytes(payload), sent_at=now)
+        for tap in self.taps:
+            tap(team, sender, msg.payload, now)
         p = self.params
         for receiver in range(1, self.players_per_team + 1):
             if receiver == sender:

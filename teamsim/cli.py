@@ -58,6 +58,7 @@ from cognition.localization import VARIANTS
 from cognition.worldmodel import OBSTACLE_MODELS
 from teamsim.brains import default_brains
 from teamsim.events import EventLog, LogEvent
+from teamsim.gc_bridge import BridgeParams, GameControllerBridge
 from teamsim.image_params import ImageParams
 from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, PLAYERS, Match, MatchConfig
 from teamsim.percept_params import PerceptParams
@@ -229,6 +230,59 @@ def _match_parser(sub: Any) -> None:
         help="delete the results of an earlier run in --out (config.json, events.jsonl, summary.json) first",
     )
     p.add_argument("--events", action="store_true", help="also print the event log")
+    _gc_args(p)
+
+
+def _gc_args(p: Any) -> None:
+    """The GameController options of ``match`` (:mod:`teamsim.gc_bridge`)."""
+    g = p.add_argument_group("GameController (SPL wire protocols over UDP, paced to real time)")
+    mode = g.add_mutually_exclusive_group()
+    mode.add_argument(
+        "--gc-broadcast",
+        action="store_true",
+        help="send the game state (port 3838, 2 Hz), each robot's status (3939, 1 Hz) and the team messages "
+        "(10000 + team number) to --gc-host",
+    )
+    mode.add_argument(
+        "--gc-listen",
+        action="store_true",
+        help="let an external GameController referee the match: follow its packets on --gc-host:--gc-port, "
+        "send the robots' status and team messages back to it",
+    )
+    g.add_argument("--gc-host", default=None, help="IPv4 address to send to / listen on (default 127.0.0.1)")
+    g.add_argument("--gc-port", type=_integer(0, 65535), default=None, help="control port (default 3838)")
+    g.add_argument("--gc-return-port", type=_integer(1, 65535), default=None, help="status port (default 3939)")
+    g.add_argument(
+        "--gc-team-port-base", type=_integer(1, 65280), default=None, help="team messages go to this + team number"
+    )
+    g.add_argument(
+        "--gc-timeout",
+        type=_number(0.0, False, "a number of seconds"),
+        default=None,
+        help="seconds without GameController packets before a warning (default 2)",
+    )
+
+
+_GC_OPTIONS = {
+    "gc_host": "host",
+    "gc_port": "gc_port",
+    "gc_return_port": "return_port",
+    "gc_team_port_base": "team_port_base",
+    "gc_timeout": "timeout",
+}
+"""``match`` option (argparse name) -> :class:`~teamsim.gc_bridge.BridgeParams` field."""
+
+
+def _bridge_params(args: argparse.Namespace) -> BridgeParams | None:
+    """The bridge the GameController options ask for; ``None`` without ``--gc-broadcast`` / ``--gc-listen``."""
+    given = {option: getattr(args, option) for option in _GC_OPTIONS if getattr(args, option) is not None}
+    if not (args.gc_broadcast or args.gc_listen):
+        if given:
+            options = ", ".join("--" + option.replace("_", "-") for option in given)
+            raise ValueError(f"{options}: only with --gc-broadcast or --gc-listen")
+        return None
+    fields = {_GC_OPTIONS[option]: value for option, value in given.items()}
+    return BridgeParams(mode="listen" if args.gc_listen else "broadcast", **fields)
 
 
 def _camera_parser(sub: Any) -> None:
@@ -424,6 +478,7 @@ def _jsonable(obj: Any) -> Any:
 def run_match(args: argparse.Namespace, out: TextIO) -> int:
     """Run ``teamsim match`` with parsed arguments."""
     config = config_from_args(args)
+    gc = _bridge_params(args)
     if args.video_robot not in ("auto", "none"):
         _robot(args.video_robot, config.players_per_team, "--video-robot")
     if args.out is not None:
@@ -457,7 +512,8 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
         home = default_brains(c.players, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
         away = default_brains(args.opponents, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
         brains = lambda team, number: home(team, number) if team == 0 else away(team, number)  # noqa: E731
-    match = Match(config, brains=brains, log=EventLog(sink=sink))
+    listen = gc is not None and gc.mode == "listen"
+    match = Match(config, brains=brains, log=EventLog(sink=sink), external_referee=listen)
     panel = None
     shown: tuple[int, int] | None = None
     if args.video is not None and args.video_robot != "none":
@@ -467,6 +523,7 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
         shown = (0, n) if args.video_robot == "auto" else parse_robot(args.video_robot, n)
         panel = CameraPanel(match, *shown, annotate=args.video_annotations)
     video_error: Exception | None = None  # the first failure of the video; it stops the video, not the match
+    interrupted = False  # Ctrl-C during a GameController match: the summary is still printed
     try:
         on_step = None
         if writer is not None:
@@ -491,7 +548,14 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
                     with contextlib.suppress(Exception):
                         video.close()
 
-        summary = match.run(on_step=on_step)
+        if gc is None:
+            summary = match.run(on_step=on_step)
+        else:
+            with GameControllerBridge(match, gc, warn=_warn) as bridge:
+                print(f"GameController {gc.mode} on {gc.host}:{bridge.port}, real time (Ctrl-C stops)", file=out)
+                out.flush()
+                summary = bridge.run(on_step=on_step)
+            interrupted = bridge.interrupted
     finally:
         if writer is not None:
             try:
@@ -520,7 +584,12 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
         return 1
     if args.video is not None:
         print(f"video written to {args.video}", file=out)
-    return 0
+    return 130 if interrupted else 0
+
+
+def _warn(line: str) -> None:
+    """A warning of ``match`` on stderr (the GameController fell silent)."""
+    print(f"teamsim match: warning: {line}", file=sys.stderr, flush=True)
 
 
 def _robot(text: str, players_per_team: int, option: str) -> tuple[int, int]:

@@ -93,6 +93,7 @@ from teamsim.events import (
     ScriptedEvent,
     event_from_mapping,
 )
+from teamsim.gc_referee import GameControllerReferee
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer
 from teamsim.odometry import OdometryModel, OdometryParams, TrueOdometry
@@ -223,8 +224,11 @@ class Match:
         config: MatchConfig | None = None,
         brains: BrainFactory | None = None,
         log: EventLog | None = None,
+        external_referee: bool = False,
     ):
-        """``brains`` makes each robot's brain; ``None``: :func:`teamsim.brains.default_brains`."""
+        """``brains`` makes each robot's brain; ``None``: :func:`teamsim.brains.default_brains`.
+        ``external_referee``: an external GameController makes the decisions
+        (:class:`teamsim.gc_referee.GameControllerReferee`, fed by :mod:`teamsim.gc_bridge`)."""
         self.config = config or MatchConfig()
         c = self.config
         self.field: Field = make_field(c.field)
@@ -240,7 +244,8 @@ class Match:
         brain_rngs = gens[5 + 4 * n : 5 + 6 * n]
         self.log = log or EventLog()
         self.world = World(self.field, n, c.physics, robot_rngs, fall_rng)
-        self.referee = Referee(self.world, self.field, c.referee, self.log)
+        referee = GameControllerReferee if external_referee else Referee
+        self.referee: Referee = referee(self.world, self.field, c.referee, self.log)
         self.channel = TeamChannel(c.channel, n, channel_rng)
         self.odometry = [OdometryModel(c.odometry, g) for g in odo_rngs]
         scheme = make_colour_scheme(c.colours)

@@ -370,11 +370,7 @@ class Referee:
         """Advance the game by one physics step that ended at ``now``."""
         self._now_for_packet = now
         dt = self.world.dt
-        for r in self.world.robots:
-            st = self.status[(r.team, r.number)]
-            if st.carried_until >= 0 and now >= st.carried_until:
-                st.carried_until = -1.0
-                r.picked_up = False
+        self._end_carrying(now)
         for ev in events:
             if ev.kind in ("robot_ball", "robot_kick"):
                 self.last_touch_team = ev.a[0]
@@ -410,6 +406,14 @@ class Referee:
         if self.state in (GameStateId.READY, GameStateId.PLAYING):
             self._auto_penalties(now, events)
         self._update_penalty_timers(now)
+
+    def _end_carrying(self, now: float) -> None:
+        """Put down the robots whose carry time is over (their ``picked_up`` signal goes off)."""
+        for r in self.world.robots:
+            st = self.status[(r.team, r.number)]
+            if st.carried_until >= 0 and now >= st.carried_until:
+                st.carried_until = -1.0
+                r.picked_up = False
 
     def _start_ready(self, now: float) -> None:
         self._enter(GameStateId.READY, now)

@@ -45,6 +45,9 @@ class MatchSummary:
     rejected_inputs: dict[str, int] = field(default_factory=dict)
     """Sensor inputs the brains could not use, summed over all robots, by kind (e.g.
     ``odometry_nonfinite``, ``team_message_off_field``; :mod:`cognition.inputs`)."""
+    network: dict[str, Any] | None = None
+    """GameController traffic of a match run by :mod:`teamsim.gc_bridge` (mode, address, packets
+    received, rejected by reason, sent); ``None`` for a match without the bridge."""
 
     @property
     def real_time_factor(self) -> float:
@@ -89,6 +92,8 @@ class MatchSummary:
         d["wall_seconds"] = self.wall_seconds
         d["real_time_factor"] = self.real_time_factor
         d["penalties_by_code"] = self.penalties_by_code()
+        if self.network is not None:
+            d["network"] = dict(self.network)
         return d
 
     def format(self, team_names: tuple[str, str] = ("Home", "Away")) -> str:
@@ -121,11 +126,24 @@ class MatchSummary:
         if self.rejected_inputs:
             counts = ", ".join(f"{kind} {n}" for kind, n in self.rejected_inputs.items())
             lines.append(f"rejected input {sum(self.rejected_inputs.values())} ({counts})")
+        if self.network is not None:
+            lines.append(_network_line(self.network))
         lines.append(
             f"simulated      {self.sim_seconds:.1f} s in {self.wall_seconds:.1f} s wall "
             f"(real-time factor {self.real_time_factor:.1f}x, {self.physics_steps} physics steps)"
         )
         return "\n".join(lines)
+
+
+def _network_line(net: dict[str, Any]) -> str:
+    """One line on the GameController traffic of :attr:`MatchSummary.network`."""
+    where = f"{net.get('mode')} {net.get('host')}:{net.get('port')}"
+    reasons = ", ".join(f"{k} {v}" for k, v in net.get("rejected_by_reason", {}).items())
+    rejected = f"{net.get('rejected', 0)} rejected" + (f" ({reasons})" if reasons else "")
+    status = f"{net.get('sent_status', 0)} status packets, {net.get('sent_team_messages', 0)} team messages"
+    if net.get("mode") == "listen":
+        return f"gamecontroller {where}: {net.get('received', 0)} packets received, {rejected}; sent {status}"
+    return f"gamecontroller {where}: sent {net.get('sent_game_state', 0)} game states, {status}"
 
 
 def _clock(t: float) -> str:
