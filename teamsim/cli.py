@@ -17,6 +17,10 @@ scenario       list or run scenarios: kidnapping, penalties, ... (registered by
 compare        compare localization variants over paired seeds (the same way)
 =============  ==================================================================
 
+``teamsim match --gc-broadcast`` / ``--gc-listen`` put the match on the SPL GameController's UDP
+protocols, paced to real time (:mod:`teamsim.gc_bridge`): it broadcasts its game state, the
+robots' status and their team messages, or an external GameController referees it.
+
 ``teamsim match --out DIR`` writes ``config.json`` first, appends every event to
 ``events.jsonl`` as it happens (an interrupted run keeps what it computed), and writes
 ``summary.json`` at the end. Two runs never mix: ``match``, ``camera`` and ``train`` refuse an
