@@ -48,6 +48,7 @@ from envs.core import EnvConfig, RewardWeights
 from teamsim.channel import ChannelParams
 from teamsim.events import ForceFall, ForcePenalty, Kidnap, PlaceBall
 from teamsim.fouls import FoulParams
+from teamsim.gc_bridge import BridgeParams
 from teamsim.image_params import ImageParams
 from teamsim.match import MatchConfig
 from teamsim.odometry import OdometryParams
@@ -57,6 +58,7 @@ from teamsim.robot import RobotParams
 from teamsim.world import PhysicsParams
 
 BASES: dict[type, Any] = {
+    BridgeParams: BridgeParams("listen"),
     PhysicsParams: PhysicsParams(),
     RobotParams: RobotParams(),
     RefereeParams: RefereeParams(),
