@@ -48,11 +48,10 @@ import argparse
 import contextlib
 import dataclasses
 import json
-import math
 import os
 import re
 import sys
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
@@ -61,8 +60,11 @@ from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
 from cognition.localization import VARIANTS
 from cognition.worldmodel import OBSTACLE_MODELS
 from teamsim.brains import default_brains
+from teamsim.cli_gc import add_gc_arguments, bridge_params, warn
+from teamsim.cli_types import integer as _integer
+from teamsim.cli_types import number as _number
 from teamsim.events import EventLog, LogEvent
-from teamsim.gc_bridge import BridgeParams, GameControllerBridge
+from teamsim.gc_bridge import GameControllerBridge
 from teamsim.image_params import ImageParams
 from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, PLAYERS, Match, MatchConfig
 from teamsim.percept_params import PerceptParams
@@ -91,37 +93,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
-
-
-def _integer(low: int, high: int) -> Callable[[str], int]:
-    """An argparse type: an integer in ``low..high``."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected an integer in {low}..{high}, got {text!r}") from None
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"must be in {low}..{high}, got {value}")
-        return value
-
-    return parse
-
-
-def _number(low: float, inclusive: bool, what: str) -> Callable[[str], float]:
-    """An argparse type: a finite number above ``low`` (or equal to it, if ``inclusive``)."""
-    bound = f">= {low:g}" if inclusive else f"> {low:g}"
-
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected {what} {bound}, got {text!r}") from None
-        if not math.isfinite(value) or value < low or (value == low and not inclusive):
-            raise argparse.ArgumentTypeError(f"must be {what} {bound}, got {text!r}")
-        return value
-
-    return parse
 
 
 def _common_args(p: Any) -> None:
@@ -234,59 +205,7 @@ def _match_parser(sub: Any) -> None:
         help="delete the results of an earlier run in --out (config.json, events.jsonl, summary.json) first",
     )
     p.add_argument("--events", action="store_true", help="also print the event log")
-    _gc_args(p)
-
-
-def _gc_args(p: Any) -> None:
-    """The GameController options of ``match`` (:mod:`teamsim.gc_bridge`)."""
-    g = p.add_argument_group("GameController (SPL wire protocols over UDP, paced to real time)")
-    mode = g.add_mutually_exclusive_group()
-    mode.add_argument(
-        "--gc-broadcast",
-        action="store_true",
-        help="send the game state (port 3838, 2 Hz), each robot's status (3939, 1 Hz) and the team messages "
-        "(10000 + team number) to --gc-host",
-    )
-    mode.add_argument(
-        "--gc-listen",
-        action="store_true",
-        help="let an external GameController referee the match: follow its packets on --gc-host:--gc-port, "
-        "send the robots' status and team messages back to it",
-    )
-    g.add_argument("--gc-host", default=None, help="IPv4 address to send to / listen on (default 127.0.0.1)")
-    g.add_argument("--gc-port", type=_integer(0, 65535), default=None, help="control port (default 3838)")
-    g.add_argument("--gc-return-port", type=_integer(1, 65535), default=None, help="status port (default 3939)")
-    g.add_argument(
-        "--gc-team-port-base", type=_integer(1, 65280), default=None, help="team messages go to this + team number"
-    )
-    g.add_argument(
-        "--gc-timeout",
-        type=_number(0.0, False, "a number of seconds"),
-        default=None,
-        help="seconds without GameController packets before a warning (default 2)",
-    )
-
-
-_GC_OPTIONS = {
-    "gc_host": "host",
-    "gc_port": "gc_port",
-    "gc_return_port": "return_port",
-    "gc_team_port_base": "team_port_base",
-    "gc_timeout": "timeout",
-}
-"""``match`` option (argparse name) -> :class:`~teamsim.gc_bridge.BridgeParams` field."""
-
-
-def _bridge_params(args: argparse.Namespace) -> BridgeParams | None:
-    """The bridge the GameController options ask for; ``None`` without ``--gc-broadcast`` / ``--gc-listen``."""
-    given = {option: getattr(args, option) for option in _GC_OPTIONS if getattr(args, option) is not None}
-    if not (args.gc_broadcast or args.gc_listen):
-        if given:
-            options = ", ".join("--" + option.replace("_", "-") for option in given)
-            raise ValueError(f"{options}: only with --gc-broadcast or --gc-listen")
-        return None
-    fields = {_GC_OPTIONS[option]: value for option, value in given.items()}
-    return BridgeParams(mode="listen" if args.gc_listen else "broadcast", **fields)
+    add_gc_arguments(p)
 
 
 def _camera_parser(sub: Any) -> None:
@@ -482,7 +401,7 @@ def _jsonable(obj: Any) -> Any:
 def run_match(args: argparse.Namespace, out: TextIO) -> int:
     """Run ``teamsim match`` with parsed arguments."""
     config = config_from_args(args)
-    gc = _bridge_params(args)
+    gc = bridge_params(args)
     if args.video_robot not in ("auto", "none"):
         _robot(args.video_robot, config.players_per_team, "--video-robot")
     if args.out is not None:
@@ -555,7 +474,7 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
         if gc is None:
             summary = match.run(on_step=on_step)
         else:
-            with GameControllerBridge(match, gc, warn=_warn) as bridge:
+            with GameControllerBridge(match, gc, warn=warn) as bridge:
                 print(f"GameController {gc.mode} on {gc.host}:{bridge.port}, real time (Ctrl-C stops)", file=out)
                 out.flush()
                 summary = bridge.run(on_step=on_step)
@@ -589,11 +508,6 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
     if args.video is not None:
         print(f"video written to {args.video}", file=out)
     return 130 if interrupted else 0
-
-
-def _warn(line: str) -> None:
-    """A warning of ``match`` on stderr (the GameController fell silent)."""
-    print(f"teamsim match: warning: {line}", file=sys.stderr, flush=True)
 
 
 def _robot(text: str, players_per_team: int, option: str) -> tuple[int, int]:
