@@ -105,7 +105,9 @@ class GameControllerReferee(Referee):
         self.external = data
 
     def _follow_state(self, state: GameStateId, play: SetPlay, now: float) -> None:
-        old = self.state
+        if state == GameStateId.PLAYING and self.state == GameStateId.SET:
+            self._kickoff(now)
+            return
         self._enter(state, now)
         if state == GameStateId.READY:
             self._ready_still_since = -1.0
@@ -115,11 +117,6 @@ class GameControllerReferee(Referee):
                 kicking = team == self.kicking_team
                 for number in illegal_kickoff_robots(self.field, self._team_positions(team), kicking):
                     self.log.add(now, "suggestion", what="illegal_position_in_set", team=team, number=number)
-        elif state == GameStateId.PLAYING and old == GameStateId.SET:
-            self._kickoff_until = now + self.params.kickoff_free_seconds
-            self.fouls.reset_stuck(self.world.ball.position.x, self.world.ball.position.y, now)
-            self.counters.kickoffs.append((now, self.kicking_team))
-            self.log.add(now, "kickoff", team=self.kicking_team)
         elif state == GameStateId.FINISHED:
             if self.first_half:
                 self.log.add(now, "half_time", score=tuple(self.score))
@@ -171,12 +168,8 @@ class GameControllerReferee(Referee):
         self.fouls.reset_stuck(x, y, now)
         self.log.add(now, "suggestion", what=play.name.lower(), team=team, x=x, y=y)
 
-    def _auto_penalties(self, now: float, events: Sequence[CollisionEvent]) -> None:
-        def team_pose(team: int, number: int) -> tuple[float, float, float]:
-            return self.team_pose(self.world.robot(team, number))
-
-        for (team, number), code in self.fouls.detect(now, events, team_pose, self.state == GameStateId.PLAYING):
-            key = ("penalty", team, number, int(code))
-            if now - self._suggested.get(key, -SUGGEST_EVERY) >= SUGGEST_EVERY:
-                self._suggested[key] = now
-                self.log.add(now, "suggestion", what="penalty", team=team, number=number, code=Penalty(code).name)
+    def _foul(self, team: int, number: int, code: int, now: float) -> None:
+        key = ("penalty", team, number, int(code))
+        if now - self._suggested.get(key, -SUGGEST_EVERY) >= SUGGEST_EVERY:
+            self._suggested[key] = now
+            self.log.add(now, "suggestion", what="penalty", team=team, number=number, code=Penalty(code).name)

@@ -390,11 +390,7 @@ class Referee:
         elif s == GameStateId.READY:
             self._update_ready(now)
         elif s == GameStateId.SET and now - self.state_since >= p.set_seconds:
-            self._enter(GameStateId.PLAYING, now)
-            self._kickoff_until = now + p.kickoff_free_seconds
-            self.fouls.reset_stuck(self.world.ball.position.x, self.world.ball.position.y, now)
-            self.counters.kickoffs.append((now, self.kicking_team))
-            self.log.add(now, "kickoff", team=self.kicking_team)
+            self._kickoff(now)
         elif s == GameStateId.PLAYING:
             self.secs_remaining = max(0.0, self.secs_remaining - dt)
             if self.set_play != SetPlay.NONE and now >= self.set_play_until:
@@ -406,6 +402,14 @@ class Referee:
         if self.state in (GameStateId.READY, GameStateId.PLAYING):
             self._auto_penalties(now, events)
         self._update_penalty_timers(now)
+
+    def _kickoff(self, now: float) -> None:
+        """SET ends: PLAYING starts with a kickoff (only the kicking team may play the ball for a while)."""
+        self._enter(GameStateId.PLAYING, now)
+        self._kickoff_until = now + self.params.kickoff_free_seconds
+        self.fouls.reset_stuck(self.world.ball.position.x, self.world.ball.position.y, now)
+        self.counters.kickoffs.append((now, self.kicking_team))
+        self.log.add(now, "kickoff", team=self.kicking_team)
 
     def _end_carrying(self, now: float) -> None:
         """Put down the robots whose carry time is over (their ``picked_up`` signal goes off)."""
@@ -552,7 +556,11 @@ class Referee:
 
         check_stuck = self.state == GameStateId.PLAYING
         for (team, number), code in self.fouls.detect(now, events, team_pose, check_stuck):
-            self.penalize(team, number, code, now)
+            self._foul(team, number, code, now)
+
+    def _foul(self, team: int, number: int, code: int, now: float) -> None:
+        """An automatic foul was detected: penalise the robot."""
+        self.penalize(team, number, code, now)
 
     def _update_penalty_timers(self, now: float) -> None:
         for (team, number), st in self.status.items():
