@@ -65,7 +65,7 @@ import time
 from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any, ClassVar, TypeVar
 
 from cognition.gamestate import (
     GAMECONTROLLER_DATA_PORT,
@@ -82,6 +82,7 @@ from teamsim.match import Match
 from teamsim.params import Range, Ranges, check_choice, check_ranges, positive
 from teamsim.summary import MatchSummary
 
+T = TypeVar("T")
 MODES = ("broadcast", "listen")
 """Valid values of :attr:`BridgeParams.mode`."""
 TEAM_PORT_BASE = 10000
@@ -166,38 +167,30 @@ class BridgeStats:
 
 def decode_game_control(data: bytes, stats: BridgeStats) -> GameControlData | None:
     """A GameController packet, or ``None`` after counting why it is rejected; nothing raises."""
-    if len(data) != PACKET_SIZE:
-        stats.rejected["size"] += 1
-        return None
-    if data[:4] != GAMECONTROLLER_HEADER:
-        stats.rejected["header"] += 1
-        return None
-    if data[4] != GAMECONTROLLER_VERSION:
-        stats.rejected["version"] += 1
-        return None
-    try:
-        return GameControlData.unpack(data)
-    except (ValueError, TypeError, struct.error):
-        stats.rejected["field"] += 1
-        return None
+    return _decode(data, stats, PACKET_SIZE, GAMECONTROLLER_HEADER, GAMECONTROLLER_VERSION, GameControlData.unpack)
 
 
 def decode_return(data: bytes, stats: BridgeStats) -> ReturnData | None:
     """A robot's status packet, or ``None`` after counting why it is rejected; nothing raises."""
-    if len(data) != RETURN_PACKET_SIZE:
+    return _decode(data, stats, RETURN_PACKET_SIZE, RETURN_HEADER, RETURN_VERSION, ReturnData.unpack)
+
+
+def _decode(
+    data: bytes, stats: BridgeStats, size: int, header: bytes, version: int, unpack: Callable[[bytes], T]
+) -> T | None:
+    """``unpack(data)`` after the cheap checks, each failure counted under its reason."""
+    if len(data) != size:
         stats.rejected["size"] += 1
-        return None
-    if data[:4] != RETURN_HEADER:
+    elif data[:4] != header:
         stats.rejected["header"] += 1
-        return None
-    if data[4] != RETURN_VERSION:
+    elif data[4] != version:
         stats.rejected["version"] += 1
-        return None
-    try:
-        return ReturnData.unpack(data)
-    except (ValueError, TypeError, struct.error):
-        stats.rejected["field"] += 1
-        return None
+    else:
+        try:
+            return unpack(data)
+        except (ValueError, TypeError, struct.error):
+            stats.rejected["field"] += 1
+    return None
 
 
 def robot_status(match: Match, index: int) -> ReturnData:
