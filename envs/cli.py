@@ -20,7 +20,8 @@ import argparse
 from pathlib import Path
 from typing import Any, TextIO
 
-from teamsim.cli import _integer, _json_type, parse_json
+from teamsim.cli import _json_type, parse_json
+from teamsim.cli_types import integer as _integer
 
 
 def register(sub: Any) -> None:

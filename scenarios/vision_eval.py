@@ -66,7 +66,7 @@ import dataclasses
 import json
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar, TextIO
@@ -83,6 +83,7 @@ from cognition.vision import METHODS, Vision, VisionParams
 from scenarios.vision_match import KINDS, EvalParams, Tally, evaluate_frame
 from scenarios.vision_pictures import montage, overlay, write_gallery
 from scenarios.vision_report import check_bars, format_recall_by_distance, format_table, summarize
+from teamsim.cli_types import integer
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageAnnotations, ImageRenderer, save_png
 from teamsim.percepts import Scene, SceneRobot
@@ -359,21 +360,6 @@ true distance| (m and relative), bearing (deg), median and 90th percentile."""
 # -- the command ---------------------------------------------------------------------------
 
 
-def _count(low: int, high: int) -> Callable[[str], int]:
-    """An argparse type: an integer in ``low..high``."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected an integer in {low}..{high}, got {text!r}") from None
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"must be in {low}..{high}, got {value}")
-        return value
-
-    return parse
-
-
 def _size(text: str) -> tuple[int, int]:
     try:
         w, h = (int(v) for v in text.lower().split("x"))
@@ -392,7 +378,7 @@ def add_parser(sub: Any) -> None:
         description=HELP,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--frames", type=_count(1, 100_000), default=500, help="frames to render (default 500)")
+    p.add_argument("--frames", type=integer(1, 100_000), default=500, help="frames to render (default 500)")
     p.add_argument(
         "--colours", choices=["classic", "modern"], default="classic", help="colour scheme (default classic)"
     )
@@ -405,7 +391,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--method", choices=[*METHODS, "both"], default="dnt", help="line method, or both side by side (default dnt)"
     )
-    p.add_argument("--seed", type=_count(0, 2**63 - 1), default=0, help="seed of the frames (default 0)")
+    p.add_argument("--seed", type=integer(0, 2**63 - 1), default=0, help="seed of the frames (default 0)")
     p.add_argument("--size", type=_size, default=(320, 240), help="image size WIDTHxHEIGHT (default 320x240)")
     p.add_argument("--motion", action="store_true", help="random head rates and walking (blur; larger sigmas)")
     p.add_argument(
