@@ -81,11 +81,11 @@ def test_same_seed_gives_identical_match() -> None:
 
 
 def test_different_seeds_differ() -> None:
+    # that one seed repeats itself is test_same_seed_gives_identical_match
     cfg = MatchConfig(referee=RefereeParams(half_seconds=60.0))
-    a, b, c = Match(cfg), Match(cfg), Match(replace(cfg, seed=1))
-    for m in (a, b, c):
+    a, c = Match(cfg), Match(replace(cfg, seed=1))
+    for m in (a, c):
         m.run(until=90.0)
-    assert a.snapshot() == b.snapshot() and a.log.events == b.log.events
     assert a.snapshot() != c.snapshot()
 
 
