@@ -104,7 +104,7 @@ from cognition.localization.maturing import mature_nb, move_candidates_nb
 from cognition.localization.params import LocalizationParams
 from cognition.localization.places import placement_poses
 from cognition.localization.resetting import from_vision
-from cognition.localization.sensor import N_O, pack_observations, sensor_table
+from cognition.localization.sensor import NO_OBSERVATIONS, pack_observations, sensor_table
 from cognition.representations import RobotPose, SensorFrame
 
 PARTICLE_VARIANTS = ("mcl", "lowvar", "amcl", "reset", "maturing")
@@ -112,7 +112,6 @@ _MODELS: OrderedDict[FieldDimensions, FieldModel] = OrderedDict()
 _MODELS_KEPT = 8
 """Compiled maps kept (least recently used dropped): one per field geometry in use."""
 _OWN_HALF_STATES = (GameStateId.INITIAL, GameStateId.READY, GameStateId.SET)
-_NO_OBS = np.zeros((0, N_O))
 _WATCH_MIN_FRAMES = 5
 """Observed frames the safety net needs in its window before it may act."""
 _MIRROR_RADIUS = 1.5
@@ -296,7 +295,7 @@ class ParticleFilter(Localizer):
         self._own_half = game.state in _OWN_HALF_STATES
         self._odo[0], self._odo[1], self._odo[2] = o.dx, o.dy, o.dtheta
         blind = frame.picked_up or self._penalty  # the base class tracked this frame's penalty
-        obs = _NO_OBS if blind else pack_observations(frame.percepts, self._table)
+        obs = NO_OBSERVATIONS if blind else pack_observations(frame.percepts, self._table)
         k = obs.shape[0]
         m = self.model
         explained = np.empty(k)

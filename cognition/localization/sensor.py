@@ -95,8 +95,10 @@ class O(IntEnum):  # noqa: E742 - short column enum used in kernels
 
 
 N_O = len(O)
-_NONE = np.zeros((0, N_O))
-_NONE.setflags(write=False)
+NO_OBSERVATIONS = np.zeros((0, N_O))
+"""No observations. Left writable: with no rows nothing can be written to it, and a read-only
+array is another numba type, for which every kernel taking observations would be compiled a
+second time (about 12 s more on the first run)."""
 _SQRT12 = math.sqrt(12.0)
 
 
@@ -122,11 +124,11 @@ def pack_observations(percepts: Percepts | None, table: NDArray[np.float64]) -> 
     (crossings, lines, circle, marks) when ``field_lines`` is off.
     """
     if percepts is None:
-        return _NONE
+        return NO_OBSERVATIONS
     rows, offsets = percepts.table_and_offsets
     n = int(offsets[-1] - offsets[0])
     if n == 0:
-        return _NONE
+        return NO_OBSERVATIONS
     out = np.empty((n, N_O))
     k = pack_nb(rows, offsets, table, out)
     return out[:k]
