@@ -166,7 +166,7 @@ def _recovery_time(poses, truth, t0_index: int, hz: float = 30.0) -> float:
     return (len(good) - t0_index) / hz  # not recovered: the horizon (censored)
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=22)
 def test_reset_and_amcl_recover_from_kidnapping_faster_than_mcl():
     times: dict[str, list[float]] = {"mcl": [], "amcl": [], "reset": []}
     for seed in range(20):
@@ -199,7 +199,7 @@ def kidnapped_walks() -> list[tuple[int, list[SensorFrame], np.ndarray, int]]:
     return out
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=5)
 @pytest.mark.parametrize("variant", ["mcl", "lowvar", "amcl", "reset", "maturing"])
 def test_no_variant_stays_lost_after_a_kidnapping(variant, kidnapped_walks):
     """While good percepts keep arriving, every variant finds the robot again (modulo the
@@ -225,7 +225,7 @@ def test_no_variant_stays_lost_after_a_kidnapping(variant, kidnapped_walks):
         assert lost >= 3, lost
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=5)
 def test_the_safety_net_seldom_fires_and_seldom_hurts_while_the_robot_is_localized():
     """False positives and noise (``harsh`` percepts) leave some observations unexplained while
     the estimate is right. Over 4 walking recordings and the 5 particle variants (20 runs of

@@ -23,7 +23,7 @@ def default_match() -> Match:
     return match
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=140)
 def test_default_match_plays_two_halves_with_goals_and_penalties(default_match: Match) -> None:
     m = default_match
     s = m.summary()
@@ -68,6 +68,7 @@ def _last_goal_without_kickoff(m: Match) -> bool:
     return bool(goals) and not any(k[0] > goals[-1][0] for k in m.referee.counters.kickoffs)
 
 
+@pytest.mark.slow(seconds=50)
 def test_same_seed_gives_identical_match() -> None:
     # two 1-minute halves of the default match: kickoffs, play, half time and side switch
     cfg = MatchConfig(referee=RefereeParams(half_seconds=60.0))
@@ -80,6 +81,7 @@ def test_same_seed_gives_identical_match() -> None:
     assert again.snapshot() == first.snapshot()
 
 
+@pytest.mark.slow(seconds=15)
 def test_different_seeds_differ() -> None:
     # that one seed repeats itself is test_same_seed_gives_identical_match
     cfg = MatchConfig(referee=RefereeParams(half_seconds=60.0))
@@ -89,6 +91,7 @@ def test_different_seeds_differ() -> None:
     assert a.snapshot() != c.snapshot()
 
 
+@pytest.mark.slow(seconds=12)
 @pytest.mark.parametrize("players", [1, 3, 7])
 def test_team_sizes_and_fields(players: int) -> None:
     for field_name in ("spl2025", "spl2013", "kidsize"):
@@ -159,6 +162,8 @@ def test_cli_match_writes_results(tmp_path: Path, capsys: pytest.CaptureFixture[
             str(video),
             "--video-fps",
             "2",
+            "--video-robot",
+            "none",  # the camera panel is test_match_images' job; here it would only add the renderer's compile
         ]
     )
     assert code == 0

@@ -133,6 +133,7 @@ def test_an_interrupted_sweep_resumes_without_redoing_runs(scenario, reference, 
     assert sweep(tasks, folder, workers=1, progress=False).ran == 0  # nothing left to do
 
 
+@pytest.mark.slow(seconds=12)
 def test_kill_9_midway_then_the_same_command_gives_the_same_report(tiny, reference, tmp_path):
     folder = tmp_path / "killed"
     argv = [sys.executable, "-m", "teamsim", "compare", "--scenario", str(tiny), "--out", str(folder),
@@ -201,6 +202,7 @@ def test_a_failing_run_is_recorded_and_the_sweep_goes_on(scenario, tmp_path, mon
     assert all(r["status"] == "ok" for r in read_rows(folder).runs)
 
 
+@pytest.mark.slow(seconds=17)
 def test_the_ray_backend_gives_the_same_rows(scenario, reference, tmp_path):
     pytest.importorskip("ray", reason="the studies extra (pip install -e '.[studies]') is not installed")
     folder = tmp_path / "ray"
@@ -224,7 +226,7 @@ def test_a_changed_scenario_does_not_mix_with_old_rows(scenario, reference, tmp_
         sweep([Task(changed, "reset", 0)], reference[0], workers=1, progress=False)
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=9)
 def test_the_ball_noise_scenarios_measure_the_kalman_ball_like_the_darmstadt_table(tmp_path):
     """The study that replaced ``scenarios.ball_rmse``: three observation models on the same
     worlds (one seed). The robot's pose is the same for all three (same lowvar localization on

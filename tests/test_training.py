@@ -68,6 +68,7 @@ def test_soccer_vec_env_is_seeded() -> None:
     np.testing.assert_array_equal(a, b)
 
 
+@pytest.mark.slow(seconds=60)
 def test_ppo_learns_to_score_better_than_random(tmp_path: Path) -> None:
     """PPO on Striker-v0 (truth, discrete macro-actions) beats uniform random macros on the same episodes.
 

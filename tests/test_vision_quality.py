@@ -49,7 +49,8 @@ def _figures(colours: str, method: str, images: str = "default") -> dict[str, di
     return {kind: summarize(tally) for kind, tally in run.totals.items()}
 
 
-@pytest.mark.slow
+# seconds: on a fresh clone this file is the first to compile the renderer and the vision (minutes)
+@pytest.mark.slow(seconds=60)
 @pytest.mark.parametrize(("colours", "method"), [("classic", "dnt"), ("modern", "dnt"), ("modern", "hough")])
 def test_seeded_frames_reach_the_quality_bounds(colours: str, method: str) -> None:
     f = _figures(colours, method)
@@ -61,7 +62,7 @@ def test_seeded_frames_reach_the_quality_bounds(colours: str, method: str) -> No
         assert f[kind]["relative_distance_error_median"] < 0.05, kind
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=1)
 def test_harsh_images_do_not_collapse() -> None:
     f = _figures("classic", "dnt", "harsh")
     for kind in ("crossing", "post", "ball"):

@@ -40,7 +40,7 @@ def _run(channel: ChannelParams, seconds: float = 60.0):
     return m, contributors, errors
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=32)
 def test_messages_respect_a_tight_budget_and_are_all_valid():
     m, contributors, errors = _run(ChannelParams(budget=100, loss=0.0))
     for team in (0, 1):
@@ -51,7 +51,7 @@ def test_messages_respect_a_tight_budget_and_are_all_valid():
     assert np.median(errors) < 0.3
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=32)
 def test_loss_and_delay_degrade_gracefully():
     clean = _run(ChannelParams(loss=0.0, delay=0.02, jitter=0.0), seconds=20.0)
     lossy = _run(ChannelParams(loss=0.7, delay=0.5, jitter=0.3), seconds=20.0)
