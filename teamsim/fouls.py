@@ -153,7 +153,8 @@ class FoulDetector:
         for r in self.world.robots:
             if not r.in_space:
                 continue
-            d = math.hypot(r.body.position.x - bx, r.body.position.y - by)
+            x, y, _ = r.pose
+            d = math.hypot(x - bx, y - by)
             if d <= p.stuck_robot_distance + r.params.radius and (best is None or d < best[0]):
                 best = (d, (r.team, r.number))
         return [] if best is None else [(best[1], Penalty.LOCAL_GAME_STUCK)]

@@ -420,8 +420,7 @@ class Match:
         signs = (self.referee.sign(0), self.referee.sign(1))
         obs, occ = [], []
         for robot in self.world.robots:
-            pos = robot.body.position
-            x, y = pos.x, pos.y
+            x, y, theta = robot.body_pose
             h = robot.head
             v = robot.velocity
             on = robot.in_space
@@ -429,7 +428,7 @@ class Match:
             walking = v[0] != 0.0 or v[1] != 0.0 or v[2] != 0.0
             sees = on and not fallen and not robot.picked_up
             obs.append(
-                (x, y, robot.body.angle, h.yaw, h.pitch, h.yaw_rate, h.pitch_rate, 0.0 if h.camera == "upper" else 1.0,
+                (x, y, theta, h.yaw, h.pitch, h.yaw_rate, h.pitch_rate, 0.0 if h.camera == "upper" else 1.0,
                  float(walking), float(sees), signs[robot.team], robot.team)
             )  # fmt: skip
             occ.append((x, y, radius, p.fallen_height if fallen else p.robot_height, float(on)))

@@ -176,7 +176,19 @@ class Robot:
         self.penalized = False
         self.planned = (0.0, 0.0, 0.0)  # walking engine's own motion since last frame
         self.true_motion = (0.0, 0.0, 0.0)  # actual body motion since last frame
-        self._last_pose = (0.0, 0.0, 0.0)
+        self._target = (0.0, 0.0, 0.0)
+        """The walk target clipped to the robot's limits (:meth:`_clipped_target`), set by :meth:`command`."""
+        self._goal = self._head_goal()
+        """The head target clipped to the joint limits (:meth:`_head_goal`), set by :meth:`command`."""
+        self._control = (0.0, 0.0, 0.0)
+        """The control body's (vx, vy, angular velocity) as last set (m/s, rad/s, world frame): a
+        kinematic body keeps its velocity, so an unchanged command is not sent to pymunk again."""
+        self._body_pose = (0.0, 0.0, 0.0)
+        """The body's (x, y, angle) as pymunk holds it (angle not wrapped), read after every physics
+        step and set by :meth:`teleport`: nothing else moves the body, so reading it once per step
+        serves the walking engine, :attr:`pose` and the referee's many looks."""
+        self._pose = (0.0, 0.0, 0.0)
+        """``_body_pose`` with the angle wrapped (:attr:`pose`)."""
 
     # -- placement -------------------------------------------------------------------------
     def add_to(self, space: pymunk.Space) -> None:
@@ -201,22 +213,36 @@ class Robot:
         self.control.angle = theta
         self.control.velocity = (0.0, 0.0)
         self.control.angular_velocity = 0.0
+        self._control = (0.0, 0.0, 0.0)
         self.velocity = [0.0, 0.0, 0.0]
-        self._last_pose = (x, y, theta)
+        self._read_body()
         if self.body.space is not None:
             self.body.space.reindex_shapes_for_body(self.body)
 
     @property
     def pose(self) -> tuple[float, float, float]:
         """World pose (x m, y m, theta rad wrapped)."""
+        return self._pose
+
+    @property
+    def body_pose(self) -> tuple[float, float, float]:
+        """World pose as the physics body holds it (x m, y m, theta rad, not wrapped)."""
+        return self._body_pose
+
+    def _read_body(self) -> None:
+        """Read the body's pose from pymunk into :attr:`_body_pose` and :attr:`pose`."""
         p = self.body.position
-        return (p.x, p.y, wrap_angle(self.body.angle))
+        th = self.body.angle
+        self._body_pose = (p.x, p.y, th)
+        self._pose = (p.x, p.y, wrap_angle(th))
 
     # -- commands --------------------------------------------------------------------------
     def command(self, walk: WalkRequest, kick: KickRequest | None, head: HeadRequest) -> None:
         """Take a new motion request (called once per cognition frame)."""
         self.walk_target = walk
+        self._target = self._clipped_target()
         self.head_target = head
+        self._goal = self._head_goal()
         if kick is not None and self.kick_request is None and self.can_walk_at_all():
             self.kick_request = kick
 
@@ -265,7 +291,7 @@ class Robot:
         if self.picked_up or self.is_fallen():
             self.velocity = [0.0, 0.0, 0.0]
         else:
-            target = (0.0, 0.0, 0.0) if now < self.busy_until else self._clipped_target()
+            target = (0.0, 0.0, 0.0) if now < self.busy_until else self._target
             lin, ang = p.max_linear_accel * dt, p.max_angular_accel * dt
             v = self.velocity
             self.velocity = [
@@ -274,23 +300,25 @@ class Robot:
                 v[2] + min(ang, max(-ang, target[2] - v[2])),
             ]
         vx, vy, w = self.velocity
-        th = self.body.angle
+        th = self._body_pose[2]
         c, s = math.cos(th), math.sin(th)
-        self.control.velocity = (c * vx - s * vy, s * vx + c * vy)
-        self.control.angular_velocity = w
+        control = (c * vx - s * vy, s * vx + c * vy, w)
+        if control != self._control:
+            self.control.velocity = control[:2]
+            self.control.angular_velocity = w
+            self._control = control
         self.planned = compose(self.planned, (vx * dt, vy * dt, w * dt))
-        pos = self.body.position
-        self._last_pose = (pos.x, pos.y, th)
 
     def post_step(self) -> None:
         """Accumulate the true body motion of the step just simulated."""
         if not self.in_space:
             return
-        x0, y0, th0 = self._last_pose
-        p = self.body.position
+        x0, y0, th0 = self._body_pose
+        self._read_body()
+        x1, y1, th1 = self._body_pose
         c, s = math.cos(th0), math.sin(th0)
-        dxw, dyw = p.x - x0, p.y - y0
-        local = (c * dxw + s * dyw, -s * dxw + c * dyw, self.body.angle - th0)
+        dxw, dyw = x1 - x0, y1 - y0
+        local = (c * dxw + s * dyw, -s * dxw + c * dyw, th1 - th0)
         self.true_motion = compose(self.true_motion, local)
 
     def take_motion(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
@@ -300,23 +328,30 @@ class Robot:
         self.true_motion = (0.0, 0.0, 0.0)
         return out
 
-    def _step_head(self, dt: float) -> None:
+    def _head_goal(self) -> tuple[float, float, float]:
+        """The head target's (yaw rad, pitch rad, speed rad/s) clipped to the joint limits."""
         p = self.params
         t = self.head_target
-        speed = min(t.speed, p.head_max_speed)
         ty = min(max(t.yaw, -p.head_yaw_limit), p.head_yaw_limit)
         tp = min(max(t.pitch, p.head_pitch_min), p.head_pitch_max)
-        dy = min(max(ty - self.head.yaw, -speed * dt), speed * dt)
-        dp = min(max(tp - self.head.pitch, -speed * dt), speed * dt)
+        return (ty, tp, min(t.speed, p.head_max_speed))
+
+    def _step_head(self, dt: float) -> None:
         h = self.head
-        if dy == 0.0 and dp == 0.0 and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == t.camera:
+        ty, tp, speed = self._goal
+        camera = self.head_target.camera
+        if ty == h.yaw and tp == h.pitch and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == camera:
+            return  # resting at the target
+        dy = min(max(ty - h.yaw, -speed * dt), speed * dt)
+        dp = min(max(tp - h.pitch, -speed * dt), speed * dt)
+        if dy == 0.0 and dp == 0.0 and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == camera:
             return
         self.head = HeadState(
-            yaw=self.head.yaw + dy,
-            pitch=self.head.pitch + dp,
+            yaw=h.yaw + dy,
+            pitch=h.pitch + dp,
             yaw_rate=dy / dt,
             pitch_rate=dp / dt,
-            camera=t.camera,
+            camera=camera,
         )
 
     def try_kick(self, now: float, ball: pymunk.Body, ball_radius: float) -> bool:
