@@ -1,0 +1,216 @@
+"""Real-time factor of the default 5 v 5 match on one core, and where its time goes.
+
+The whole job a user runs: ``teamsim match``'s default 5 v 5 match (scripted team play, every
+robot on its own cognition stack with ``maturing`` localization), played on one CPU core, on
+synthesized percepts, on rendered camera images through vision, or on the truth. The
+real-time factor is simulated seconds per wall second of ``Match.run`` (and per CPU second of
+this process, which another busy core disturbs less).
+
+With ``--stages`` each match is played a second time with a timer around every stage, and the
+wall time per robot and cognition frame is printed stage by stage (the timers cost about a
+microsecond per stage and frame, so the real-time factor comes from the untimed run):
+
+==================  =============================================================================
+stage               what is timed
+==================  =============================================================================
+physics             ``World.step``: the walking engines, pymunk, kicks and falls
+referee             ``Referee.update``: game states, goals, fouls, penalties
+percepts            ``PerceptSynthesizer.synthesize``: the synthesized percepts of all robots
+render              ``render_nb``: the camera image of the scene (per seeing robot)
+effects             ``ImageEffects.apply``: blur, exposure, white balance, noise
+image glue          the rest of ``Match.capture_images`` (camera matrices, image objects)
+vision              ``Vision.detect``: pixels to percepts
+localization        the localizer's ``update`` (input checks, particle filter, pose)
+kalman ball         ``KalmanBallModel.update``
+ball hypotheses     ``BallHypotheses.update``
+team                ``TeamState.update`` and ``team_ball``: teammates' messages, the team ball
+obstacles           the obstacle model's ``update``
+goal model          ``GoalModel.move_robot``, ``add_percepts``, ``estimate``
+behaviour           ``ScriptedBrain._act`` and the head control's ``request``
+frame glue          everything else of a cognition frame (sensor frames, odometry, beliefs,
+                    messages, localization error bookkeeping)
+other               the rest of ``Match.run`` (scene building, scripted events, the loop)
+==================  =============================================================================
+
+=====================================  ============================================================
+figure                                 meaning
+=====================================  ============================================================
+<obs>_rtf                              simulated / wall seconds, mean over seeds (one core)
+<obs>_cpu_rtf                          simulated / CPU seconds of this process
+<obs>_us_per_robot_frame               wall time per robot and cognition frame (us)
+<obs>_position_error_m                 mean localization error (m; not on the truth)
+<obs>_stage_<name>_us                  with ``--stages``: time of a stage per robot-frame (us)
+=====================================  ============================================================
+
+Usage: ``python -m benchmarks.bench_match [--observation percepts images none]
+[--half-seconds 60] [--seeds 2] [--core 0] [--stages] [--json out.json]``. The issue figures:
+the default match on percepts and, for vision, the same match on images (bar: 5x real time).
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import os
+import time
+from collections import defaultdict
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+from benchmarks.common import write_figures
+from teamsim.match import Match, MatchConfig
+from teamsim.referee import RefereeParams
+
+STAGES = (
+    "physics", "referee", "percepts", "render", "effects", "image glue", "vision", "localization", "kalman ball",
+    "ball hypotheses", "team", "obstacles", "goal model", "behaviour", "frame glue", "other",
+)  # fmt: skip
+
+
+def _targets() -> list[tuple[Any, str, str]]:
+    """(owner, attribute, stage) of every timed callable (module docstring)."""
+    import cognition.behaviors.head_control as head_control
+    import cognition.behaviors.team_play as team_play
+    import cognition.localization.base as loc_base
+    import cognition.worldmodel.ball as ball
+    import cognition.worldmodel.beliefs as beliefs
+    import cognition.worldmodel.goal as goal
+    import cognition.worldmodel.hypotheses as hypotheses
+    import cognition.worldmodel.obstacles as obstacles
+    import cognition.worldmodel.team as team
+    import teamsim.images as images
+    import teamsim.match as match
+    import teamsim.percepts as percepts
+    import teamsim.referee as referee
+    import teamsim.world as world
+    from cognition.vision.vision import Vision
+    from teamsim.image_effects import ImageEffects
+
+    return [
+        (world.World, "step", "physics"),
+        (referee.Referee, "update", "referee"),
+        (percepts.PerceptSynthesizer, "synthesize", "percepts"),
+        (images, "render_nb", "render"),
+        (ImageEffects, "apply", "effects"),
+        (match.Match, "capture_images", "image glue"),
+        (Vision, "detect", "vision"),
+        (loc_base.Localizer, "update", "localization"),
+        (ball.KalmanBallModel, "update", "kalman ball"),
+        (hypotheses.BallHypotheses, "update", "ball hypotheses"),
+        (team.TeamState, "update", "team"),
+        (beliefs, "team_ball", "team"),
+        (obstacles.ObstacleSectors, "update", "obstacles"),
+        (obstacles.ObstacleGrid, "update", "obstacles"),
+        (goal.GoalModel, "move_robot", "goal model"),
+        (goal.GoalModel, "add_percepts", "goal model"),
+        (goal.GoalModel, "estimate", "goal model"),
+        (team_play.ScriptedBrain, "_act", "behaviour"),
+        (head_control.HeadControl, "request", "behaviour"),
+        (match.Match, "_cognition", "frame glue"),
+    ]
+
+
+@contextmanager
+def stage_timers() -> Iterator[dict[str, float]]:
+    """Wrap every timed callable (module docstring) while the block runs; the yielded mapping
+    receives each stage's *exclusive* wall time (s): time spent in a timed callable called
+    from another one counts for the inner stage only."""
+    spent: dict[str, float] = defaultdict(float)
+    stack: list[float] = []  # time of the callees of each open timer
+    patched: list[tuple[Any, str, Any]] = []
+
+    def timed(fn: Callable[..., Any], stage: str) -> Callable[..., Any]:
+        @functools.wraps(fn)
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            stack.append(0.0)
+            start = time.perf_counter()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                total = time.perf_counter() - start
+                inner = stack.pop()
+                spent[stage] += total - inner
+                if stack:
+                    stack[-1] += total
+
+        return wrapper
+
+    for owner, name, stage in _targets():
+        original = owner.__dict__[name]
+        patched.append((owner, name, original))
+        setattr(owner, name, timed(original, stage))
+    try:
+        yield spent
+    finally:
+        for owner, name, original in reversed(patched):
+            setattr(owner, name, original)
+
+
+def play(observation: str, half_seconds: float, seed: int, localization: str | None) -> tuple[Match, float, float]:
+    """One default 5 v 5 match; returns it with its wall and CPU seconds of ``run``."""
+    config = MatchConfig(
+        seed=seed, observation=observation, localization=localization,  # type: ignore[arg-type]
+        referee=RefereeParams(half_seconds=half_seconds),
+    )  # fmt: skip
+    match = Match(config)
+    start, cpu = time.perf_counter(), time.process_time()
+    match.run()
+    return match, time.perf_counter() - start, time.process_time() - cpu
+
+
+def main(argv: list[str] | None = None) -> dict[str, float]:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--observation", nargs="+", default=["percepts", "images"], choices=["percepts", "images", "none"]
+    )
+    parser.add_argument("--localization", default="maturing", help="variant on percepts and images (default maturing)")
+    parser.add_argument("--half-seconds", type=float, default=60.0, help="length of each half (s of game time)")
+    parser.add_argument("--seeds", type=int, default=2)
+    parser.add_argument("--core", type=int, default=0, help="the CPU core to run on (-1: leave the affinity)")
+    parser.add_argument("--stages", action="store_true", help="also time every stage (a second, timed run)")
+    parser.add_argument("--json", type=Path, default=None)
+    args = parser.parse_args(argv)
+    if args.core >= 0:
+        os.sched_setaffinity(0, {args.core})
+    play("none", 2.0, 0, None)  # load the compiled kernels of the world before any clock runs
+    figures: dict[str, float] = {}
+    for obs in args.observation:
+        loc = None if obs == "none" else args.localization
+        play(obs, 1.0, 0, loc)  # load this mode's kernels (numba's cache) before timing
+        sim = wall = cpu = 0.0
+        frames = 0
+        errors = []
+        for seed in range(args.seeds):
+            match, w, c = play(obs, args.half_seconds, seed, loc)
+            sim, wall, cpu = sim + match.time, wall + w, cpu + c
+            frames += match.frames * len(match.world.robots)
+            summary = match.localization_errors.summary()
+            if summary is not None:
+                errors.append(summary.position_error_mean)
+        figures[f"{obs}_rtf"] = sim / wall
+        figures[f"{obs}_cpu_rtf"] = sim / cpu
+        figures[f"{obs}_us_per_robot_frame"] = 1e6 * wall / frames
+        line = f"{obs:8s} {sim / wall:6.2f}x real time (CPU {sim / cpu:5.2f}x), "
+        line += f"{1e6 * wall / frames:6.0f} us per robot-frame"
+        if errors:
+            figures[f"{obs}_position_error_m"] = sum(errors) / len(errors)
+            line += f", mean position error {figures[f'{obs}_position_error_m']:.3f} m"
+        print(line, flush=True)
+        if args.stages:
+            with stage_timers() as spent:
+                match, w, _ = play(obs, args.half_seconds, 0, loc)
+            n = match.frames * len(match.world.robots)
+            spent["other"] = w - sum(spent.values())
+            print(f"  per robot-frame (seed 0, timed run: {1e6 * w / n:.0f} us)")
+            for stage in STAGES:
+                if spent.get(stage, 0.0) > 0.0:
+                    figures[f"{obs}_stage_{stage.replace(' ', '_')}_us"] = 1e6 * spent[stage] / n
+                    print(f"    {stage:16s} {1e6 * spent[stage] / n:7.1f} us")
+    write_figures(args.json, figures)
+    return figures
+
+
+if __name__ == "__main__":
+    main()
