@@ -36,15 +36,9 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.percepts import Kind, Percepts
+from cognition.percepts import N_COLS, Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
-from cognition.worldmodel.kalman_ball import (
-    KalmanBallParams,
-    gated_update_nb,
-    measure_rows_nb,
-    predict_move_nb,
-    update,
-)
+from cognition.worldmodel.kalman_ball import KalmanBallParams, own_frame_nb, update
 from cognition.worldmodel.messages import TeamMessage
 
 GATE = 25.0
@@ -57,6 +51,8 @@ SUSPICIOUS_SIGMA = 1.5
 """Position sd (m) below which the ball is ``suspicious`` (else ``invalid``)."""
 _BALL = int(Kind.BALL)
 _TEAM_VELOCITY_VAR = 1.0  # (m/s)^2: the message carries no velocity covariance
+_NO_ROWS = np.zeros((0, N_COLS))
+"""No ball percept rows (kept writable: a read-only array would compile :func:`own_frame_nb` again)."""
 
 
 _UNKNOWN_COV = np.eye(4) * 1e6
@@ -79,69 +75,52 @@ class KalmanBallModel:
         self.last_seen = -math.inf
         self.time: float | None = None
         self.source = "none"
-        self._rejected = 0
+        self._status = np.zeros(2, dtype=np.int64)
+        """(1 if the compiled frame is given a state, consecutive rejected percepts) (:func:`own_frame_nb`)."""
 
     def update(self, frame: SensorFrame, pose: RobotPose | None = None, team: Sequence[TeamMessage] = ()) -> BallModel:
         """One frame (robot frame results; ``pose`` only for field coordinates and team balls)."""
         prm = self.params
         dt = 0.0 if self.time is None else max(0.0, frame.time - self.time)
         self.time = frame.time
-        if self.x is not None and self.p is not None:
+        had = self.x is not None and self.p is not None
+        rows, foot_x, foot_y, height, focal = self._ball_rows(frame.percepts)
+        seen = False
+        if had or rows.shape[0]:
+            if not had:  # the first sighting fills fresh arrays
+                self.x, self.p = np.zeros(4), np.zeros((4, 4))
+            self._status[0] = 1 if had else 0
             o = frame.odometry
-            self.x, self.p = predict_move_nb(
-                self.x, self.p, dt, prm.rolling_deceleration, prm.accel_sigma, o.dx, o.dy, o.dtheta
-            )
-            self.source = "prediction"
-        if self._camera(frame.percepts):
-            self.last_seen = frame.time
-            self.source = "vision"
-        elif pose is not None and team and self._needs_team():
+            seen = own_frame_nb(
+                self.x, self.p, self._status, dt, prm.rolling_deceleration, prm.accel_sigma, o.dx, o.dy, o.dtheta, rows,
+                foot_x, foot_y, height, focal, self.ball_radius, prm.fixed_sigma if prm.sigma_mode == "fixed" else -1.0,
+                prm.size_sigma_px, prm.sigmas_at_prediction, GATE, RESTART_AFTER, prm.initial_velocity_sigma**2,
+            )  # fmt: skip
+            if had:
+                self.source = "prediction"
+            if seen:
+                self.last_seen = frame.time
+                self.source = "vision"
+        if not seen and pose is not None and team and self._needs_team():
             self._team(pose, team)
         if pose is not None and self.limits is not None:
             self._keep_on_carpet(pose, self.limits)
         return self._output(pose)
 
     # -- updates ---------------------------------------------------------------------------
-    def _camera(self, percepts: Percepts | None) -> bool:
-        if percepts is None:
-            return False
+    def _ball_rows(self, percepts: Percepts | None) -> tuple[NDArray[np.float64], float, float, float, float]:
+        """This frame's ball percept rows (none without percepts or a camera matrix), the camera's
+        foot (x, y, m, robot frame), its height above the ball centre (m) and focal length (px)."""
+        if percepts is None or percepts.camera is None:
+            return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
         table, offsets = percepts.table_and_offsets
         lo, hi = int(offsets[_BALL]), int(offsets[_BALL + 1])
         if hi == lo:
-            return False
+            return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
         cam = percepts.camera
-        if cam is None:
-            return False
-        rows = table[lo:hi]
-        prm = self.params
         foot = cam.position  # distances are from the camera's foot
-        use_pred = self.x is not None and prm.sigmas_at_prediction
-        px, py = (float(self.x[0]), float(self.x[1])) if self.x is not None else (0.0, 0.0)
-        fixed = prm.fixed_sigma if prm.sigma_mode == "fixed" else -1.0
-        zs, rs = measure_rows_nb(
-            rows, float(foot[0]), float(foot[1]), cam.height - self.ball_radius, 0.5 * (cam.spec.fx + cam.spec.fy),
-            self.ball_radius, fixed, prm.size_sigma_px, use_pred, px, py,
-        )  # fmt: skip
-        if self.x is None or self.p is None:
-            return self._start(zs[0], rs[0])
-        x, p, updated, best = gated_update_nb(self.x, self.p, zs, rs, GATE)
-        if updated:
-            self._rejected = 0
-            self.x, self.p = x, p
-            return True
-        self._rejected += 1  # an outlier, or the ball was moved: restart after RESTART_AFTER in a row
-        if self._rejected >= RESTART_AFTER:
-            self._rejected = 0
-            return self._start(zs[best], rs[best])
-        return False
-
-    def _start(self, z: NDArray[np.float64], r: NDArray[np.float64]) -> bool:
-        v2 = self.params.initial_velocity_sigma**2
-        self.x = np.array([z[0], z[1], 0.0, 0.0])
-        self.p = np.zeros((4, 4))
-        self.p[:2, :2] = r
-        self.p[2, 2] = self.p[3, 3] = v2
-        return True
+        focal = 0.5 * (cam.spec.fx + cam.spec.fy)
+        return table[lo:hi], float(foot[0]), float(foot[1]), cam.height - self.ball_radius, focal
 
     def _needs_team(self) -> bool:
         return self.p is None or float(self.p[0, 0] + self.p[1, 1]) > self.params.team_threshold
@@ -203,5 +182,6 @@ class KalmanBallModel:
             fx = pose.x + c * x0 - s * x1
             fy = pose.y + s * x0 + c * x1
         age = (self.time or 0.0) - self.last_seen
-        p.flags.writeable = False  # shared with the output: every update makes a new array
+        p = p.copy()  # the state is updated in place; the output keeps this frame's covariance
+        p.flags.writeable = False
         return BallModel(x0, x1, x2, x3, p, fx, fy, age, level, self.source)  # type: ignore[arg-type]

@@ -345,3 +345,79 @@ def gated_update_nb(x, p, zs, rs, gate):  # pragma: no cover - compiled
         return x, p, False, best
     xo, po = _update_nb(x, p, zs[best].copy(), rs[best].copy())
     return xo, po, True, best
+
+
+@nb.njit(cache=True)
+def _start_nb(x, p, z, r, velocity_var):  # pragma: no cover - compiled
+    """A new state at measurement ``z`` (2) with covariance ``r`` (2 x 2), at rest with
+    velocity variance ``velocity_var``, into ``x`` and ``p``."""
+    x[0], x[1], x[2], x[3] = z[0], z[1], 0.0, 0.0
+    for i in range(4):
+        for j in range(4):
+            p[i, j] = 0.0
+    for i in range(2):
+        for j in range(2):
+            p[i, j] = r[i, j]
+    p[2, 2] = p[3, 3] = velocity_var
+
+
+@nb.njit(cache=True)
+def own_frame_nb(
+    x,
+    p,
+    status,
+    dt,
+    deceleration,
+    accel_sigma,
+    dx,
+    dy,
+    dtheta,
+    rows,
+    foot_x,
+    foot_y,
+    height,
+    focal,
+    ball_radius,
+    fixed_sigma,
+    size_sigma_px,
+    sigmas_at_prediction,
+    gate,
+    restart_after,
+    velocity_var,
+):  # pragma: no cover - compiled
+    """One frame of a robot's own ball sensing in one call, state ``x`` (4) and ``p`` (4 x 4)
+    updated in place; ``status`` holds (1 if there is a state, consecutive rejected percepts).
+
+    With a state: :func:`predict_move_nb` over ``dt`` s and the odometry. Then, given ball
+    percept ``rows`` (possibly none): :func:`measure_rows_nb` (at the prediction when
+    ``sigmas_at_prediction``), and a new state at the first percept if there was none, else
+    :func:`gated_update_nb`; ``restart_after`` rejections in a row restart the state at the
+    latest best percept. Returns True when a percept updated or started the state.
+    """
+    has = status[0] == 1
+    if has:
+        xo, po = predict_move_nb(x, p, dt, deceleration, accel_sigma, dx, dy, dtheta)
+        x[:] = xo
+        p[:, :] = po
+    if rows.shape[0] == 0:
+        return False
+    zs, rs = measure_rows_nb(
+        rows, foot_x, foot_y, height, focal, ball_radius, fixed_sigma, size_sigma_px, has and sigmas_at_prediction,
+        x[0] if has else 0.0, x[1] if has else 0.0,
+    )  # fmt: skip
+    if not has:
+        _start_nb(x, p, zs[0], rs[0], velocity_var)
+        status[0] = 1
+        return True
+    xo, po, updated, best = gated_update_nb(x, p, zs, rs, gate)
+    if updated:
+        status[1] = 0
+        x[:] = xo
+        p[:, :] = po
+        return True
+    status[1] += 1  # an outlier, or the ball was moved: restart after restart_after in a row
+    if status[1] >= restart_after:
+        status[1] = 0
+        _start_nb(x, p, zs[best], rs[best], velocity_var)
+        return True
+    return False
