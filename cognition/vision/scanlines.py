@@ -145,4 +145,8 @@ def line_points_nb(
                 out[n, 2] = run
                 out[n, 3] = 1.0
                 n += 1
-    return out[:n]
+    points = np.empty((n, 4))  # a copy: a view would keep the large buffer alive
+    for k in range(n):
+        for c in range(4):
+            points[k, c] = out[k, c]
+    return points
