@@ -314,3 +314,36 @@ def test_params_are_checked() -> None:
         from cognition.params import from_mapping
 
         from_mapping(VisionParams, {"scanstep": 3})
+
+
+def test_fast_paths_of_the_line_kernels_decide_as_the_plain_computations() -> None:
+    """The shortcuts of the compiled line stages (scanline search eight pixels at a time, white
+    ratios that stop early, squared-distance bounds before ``math.hypot``) give the same
+    answers as the plain computations they stand in for."""
+    from cognition.vision.circle import ring_bounds_nb
+    from cognition.vision.scanlines import _next_white
+    from cognition.vision.segments import white_ratio_nb
+
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        n = int(rng.integers(1, 60))
+        line = np.zeros((n + 15) // 8 * 8, dtype=np.uint8)
+        line[:n] = rng.choice([0, 1, 2, 3], size=n, p=[0.3, 0.5, 0.1, 0.1])
+        k = int(rng.integers(0, n + 1))
+        plain = next((q for q in range(k, n) if line[q] == Colour.WHITE), n)
+        assert _next_white(line, line.view(np.uint64), k, n) == plain
+    classes = rng.choice([1, 2], size=(40, 50), p=[0.4, 0.6]).astype(np.uint8)
+    for _ in range(300):
+        u0, u1 = rng.uniform(-5.0, 55.0, 2)
+        v0, v1 = rng.uniform(-5.0, 45.0, 2)
+        full = white_ratio_nb(classes, u0, v0, u1, v1)
+        at_least, above = rng.uniform(0.0, 1.0), rng.uniform(-1.0, 1.0)
+        cut = white_ratio_nb(classes, u0, v0, u1, v1, at_least, above)
+        assert cut == full or (cut == -1.0 and (full < at_least or full <= above))
+    radius, inlier = 0.75, 0.08
+    near2, far2 = ring_bounds_nb(radius, inlier)
+    for d in np.concatenate([rng.uniform(0.0, 2.0, 2000), radius + inlier * np.array([-1.0, 1.0]) + 1e-15]):
+        a = rng.uniform(-math.pi, math.pi)
+        dx, dy = d * math.cos(a), d * math.sin(a)
+        if abs(math.hypot(dx, dy) - radius) <= inlier:
+            assert near2 <= dx * dx + dy * dy <= far2

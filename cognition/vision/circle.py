@@ -34,8 +34,21 @@ from cognition.vision.projection import pixel_nb
 
 
 @nb.njit(cache=True)
+def ring_bounds_nb(radius: float, inlier: float) -> tuple[float, float]:  # pragma: no cover - compiled
+    """Bounds on the squared distance from the centre (m^2) outside of which a point certainly
+    lies farther than ``inlier`` from the circle: a cheap test before the exact one with
+    ``math.hypot``, which alone decides for the points within the bounds (the factors leave
+    a margin far above the rounding errors of either computation)."""
+    near = radius - inlier
+    near2 = near * near * (1.0 - 1e-9) if near > 0.0 else -1.0
+    far = radius + inlier
+    return near2, far * far * (1.0 + 1e-9)
+
+
+@nb.njit(cache=True)
 def _refine(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlier: float) -> tuple:  # pragma: no cover
     """Gauss-Newton on the centre with the radius fixed; returns (cx, cy, inlier count)."""
+    near2, far2 = ring_bounds_nb(radius, inlier)
     n_in = 0
     for _ in range(6):
         jtj00 = jtj01 = jtj11 = 0.0
@@ -43,6 +56,9 @@ def _refine(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlie
         n_in = 0
         for k in range(pts.shape[0]):
             dx, dy = pts[k, 0] - cx, pts[k, 1] - cy
+            q = dx * dx + dy * dy
+            if q < near2 or q > far2:
+                continue
             d = math.hypot(dx, dy)
             if d < 1e-9 or abs(d - radius) > inlier:
                 continue
@@ -70,10 +86,12 @@ def _refine(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlie
 def _span(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlier: float) -> float:  # pragma: no cover
     """Angle (rad) of the circle covered by the inliers: 2 pi minus the largest empty gap."""
     angles = np.empty(pts.shape[0])
+    near2, far2 = ring_bounds_nb(radius, inlier)
     n = 0
     for k in range(pts.shape[0]):
         dx, dy = pts[k, 0] - cx, pts[k, 1] - cy
-        if abs(math.hypot(dx, dy) - radius) <= inlier:
+        q = dx * dx + dy * dy
+        if q >= near2 and q <= far2 and abs(math.hypot(dx, dy) - radius) <= inlier:
             angles[n] = math.atan2(dy, dx)
             n += 1
     if n < 2:
@@ -106,7 +124,8 @@ def find_circle_nb(
     gw = min(int((x1 - x0) / cell) + 1, 400)
     gh = min(int((y1 - y0) / cell) + 1, 400)
     acc = np.zeros((gh, gw), dtype=np.int32)
-    voted = np.empty(n * directions, dtype=np.int64)
+    voted_x = np.empty(n * directions, dtype=np.int32)  # the cells with votes, in the order of their first
+    voted_y = np.empty(n * directions, dtype=np.int32)
     n_voted = 0
     inv = 1.0 / cell
     cs = np.cos(2.0 * math.pi * np.arange(directions) / directions) * (radius * inv)  # in cells
@@ -118,22 +137,22 @@ def find_circle_nb(
             gx = int(bx0 + cs[d])
             gy = int(by0 + sn[d])
             if 0 <= gx < gw and 0 <= gy < gh:
-                if acc[gy, gx] == 0:
-                    voted[n_voted] = gy * gw + gx
-                    n_voted += 1
+                voted_x[n_voted] = gx  # (kept only if the cell had no vote yet: no branch to mispredict)
+                voted_y[n_voted] = gy
+                n_voted += acc[gy, gx] == 0
                 acc[gy, gx] += 1
     # the best cell, its votes summed with its 8 neighbours; only cells with votes can win
     best = 0
     bx, by = -1, -1
     for q in range(n_voted):
-        gy, gx = voted[q] // gw, voted[q] % gw
+        gy, gx = voted_y[q], voted_x[q]
         if gy < 1 or gx < 1 or gy >= gh - 1 or gx >= gw - 1:
             continue
         s = 0
         for a in range(-1, 2):
             for b in range(-1, 2):
                 s += acc[gy + a, gx + b]
-        if s > best or (s == best and voted[q] < by * gw + bx):
+        if s > best or (s == best and gy * gw + gx < by * gw + bx):
             best, bx, by = s, gx, gy
     if bx < 0:
         return math.nan, math.nan, 0, 0.0

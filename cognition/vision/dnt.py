@@ -20,7 +20,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.vision.circle import find_circle_nb, verify_circle_nb
+from cognition.vision.circle import find_circle_nb, ring_bounds_nb, verify_circle_nb
 from cognition.vision.ends import segments_on_ground_nb
 from cognition.vision.projection import ground_nb
 from cognition.vision.scanlines import line_points_nb
@@ -75,8 +75,11 @@ def centre_circle_nb(
     seen, share = verify_circle_nb(classes, boundary, cam, cx, cy, radius, 64, line_width, blur_u, blur_v)
     if seen < 12 or share < min_coverage:  # a fifth of the circle visibly in view, mostly on white
         return math.nan, math.nan, on
+    near2, far2 = ring_bounds_nb(radius, 1.5 * inlier)
     for k in range(n):
-        if valid[k] and abs(math.hypot(ground[k, 0] - cx, ground[k, 1] - cy) - radius) <= 1.5 * inlier:
+        dx, dy = ground[k, 0] - cx, ground[k, 1] - cy
+        q = dx * dx + dy * dy
+        if valid[k] and near2 <= q <= far2 and abs(math.hypot(dx, dy) - radius) <= 1.5 * inlier:
             on[k] = True
     return cx, cy, on
 

@@ -55,6 +55,29 @@ def _accept(
     return run <= 2.0 * expected + 2.0 + blur and run >= 0.5 * expected - 0.5
 
 
+_ZERO = np.uint64(0)
+_ONES = np.uint64(0x0101010101010101)
+_HIGHS = np.uint64(0x8080808080808080)
+_WHITES = np.uint64(WHITE * 0x0101010101010101)
+
+
+@nb.njit(cache=True)
+def _next_white(line: NDArray[np.uint8], words: NDArray[np.uint64], k: int, end: int) -> int:  # pragma: no cover
+    """The first index in [k, end) where ``line`` is WHITE, else ``end``. ``words`` is ``line``
+    seen as 64-bit words: at a word boundary, eight pixels without WHITE are skipped at once (a
+    word has a WHITE byte exactly when its XOR with all-WHITE bytes has a zero byte)."""
+    while k < end:
+        if k & 7 == 0:
+            x = words[k >> 3] ^ _WHITES
+            if (x - _ONES) & ~x & _HIGHS == _ZERO:
+                k += 8
+                continue
+        if line[k] == WHITE:
+            return k
+        k += 1
+    return end
+
+
 @nb.njit(cache=True)
 def line_points_nb(
     classes: NDArray[np.uint8],
@@ -67,19 +90,26 @@ def line_points_nb(
     blur_v: float,
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
     """All line points of the vertical and horizontal scanlines (module docstring), K x 4;
-    ``blur_u`` and ``blur_v`` are the motion blur lengths (px) along rows and columns."""
+    ``blur_u`` and ``blur_v`` are the motion blur lengths (px) along rows and columns.
+
+    Each scanline is first copied into a contiguous buffer (a column's pixels lie one image row
+    apart), where :func:`_next_white` finds the next WHITE pixel eight pixels at a time."""
     height, width = classes.shape
     cap = (width // step + 1) * height // 2 + (height // step + 1) * width // 2 + 16
     out = np.empty((cap, 4))
     n = 0
+    line = np.zeros((max(height, width) + 15) // 8 * 8, dtype=np.uint8)  # zero past the scanline: no WHITE
+    words = line.view(np.uint64)
     for i in range(step // 2, width, step):
         j = max(boundary[i], 0)
+        for q in range(j, height):
+            line[q] = classes[q, i]
         while j < height and n < cap:
-            if classes[j, i] != WHITE:
-                j += 1
-                continue
+            j = _next_white(line, words, j, height)
+            if j >= height:
+                break
             j0 = j
-            while j < height and classes[j, i] == WHITE:
+            while j < height and line[j] == WHITE:
                 j += 1
             run = j - j0
             before = j0 == boundary[i] or _green_within(classes, j0 - 1, i, -1, 0, max_gap)
@@ -92,13 +122,18 @@ def line_points_nb(
                 out[n, 3] = 0.0
                 n += 1
     for j in range(step // 2, height, step):
+        for q in range(width):
+            line[q] = classes[j, q]
         i = 0
         while i < width and n < cap:
-            if classes[j, i] != WHITE or j < boundary[i]:
+            i = _next_white(line, words, i, width)
+            if i >= width:
+                break
+            if j < boundary[i]:
                 i += 1
                 continue
             i0 = i
-            while i < width and classes[j, i] == WHITE and j >= boundary[i]:
+            while i < width and line[i] == WHITE and j >= boundary[i]:
                 i += 1
             run = i - i0
             before = _green_within(classes, j, i0 - 1, 0, -1, max_gap)
@@ -110,4 +145,8 @@ def line_points_nb(
                 out[n, 2] = run
                 out[n, 3] = 1.0
                 n += 1
-    return out[:n]
+    points = np.empty((n, 4))  # a copy: a view would keep the large buffer alive
+    for k in range(n):
+        for c in range(4):
+            points[k, c] = out[k, c]
+    return points

@@ -35,25 +35,39 @@ WHITE = 2
 
 
 @nb.njit(cache=True)
-def white_ratio_nb(classes: NDArray[np.uint8], u0: float, v0: float, u1: float, v1: float) -> float:  # pragma: no cover
-    """Share of the samples along the pixel segment that are white (or have a white 4-neighbour)."""
+def white_ratio_nb(
+    classes: NDArray[np.uint8], u0: float, v0: float, u1: float, v1: float, at_least: float = 0.0, above: float = -1.0
+) -> float:  # pragma: no cover
+    """Share of the samples along the pixel segment that are white (or have a white 4-neighbour).
+
+    Returns -1 as soon as the misses so far make it certain that the share will be below
+    ``at_least`` or not above ``above`` (a caller that would reject such a share anyway
+    stops reading pixels early); the defaults never stop early."""
     height, width = classes.shape
     n = int(max(abs(u1 - u0), abs(v1 - v0))) + 1
     white = 0
+    misses = 0
     for k in range(n + 1):
         t = k / n
         i = int(u0 + (u1 - u0) * t)
         j = int(v0 + (v1 - v0) * t)
-        if i < 0 or j < 0 or i >= width or j >= height:
-            continue
         if (
-            classes[j, i] == WHITE
-            or (i > 0 and classes[j, i - 1] == WHITE)
-            or (i + 1 < width and classes[j, i + 1] == WHITE)
-            or (j > 0 and classes[j - 1, i] == WHITE)
-            or (j + 1 < height and classes[j + 1, i] == WHITE)
+            0 <= i < width
+            and 0 <= j < height
+            and (
+                classes[j, i] == WHITE
+                or (i > 0 and classes[j, i - 1] == WHITE)
+                or (i + 1 < width and classes[j, i + 1] == WHITE)
+                or (j > 0 and classes[j - 1, i] == WHITE)
+                or (j + 1 < height and classes[j + 1, i] == WHITE)
+            )
         ):
             white += 1
+            continue
+        misses += 1
+        best = (n + 1 - misses) / (n + 1)  # the share if every remaining sample is white
+        if best < at_least or best <= above:
+            return -1.0
     return white / (n + 1)
 
 
@@ -74,17 +88,18 @@ def _scatter_error(sums: NDArray[np.float64], x: float, y: float) -> float:  # p
 
 
 @nb.njit(cache=True)
-def _off_line(sums: NDArray[np.float64], x: float, y: float) -> float:  # pragma: no cover - compiled
-    """Distance of (x, y) from the least-squares line of the points in ``sums`` (0 below 3 points)."""
+def _line_of(sums: NDArray[np.float64]) -> tuple[float, float, float, float]:  # pragma: no cover - compiled
+    """The least-squares line of the points in ``sums``: its centroid (mx, my) and the sine and
+    cosine of its direction (all 0 below 3 points: then no point counts as off the line)."""
     n = sums[0]
     if n < 3.0:
-        return 0.0
+        return 0.0, 0.0, 0.0, 0.0
     mx, my = sums[1] / n, sums[2] / n
     cxx = sums[3] - n * mx * mx
     cxy = sums[4] - n * mx * my
     cyy = sums[5] - n * my * my
     theta = 0.5 * math.atan2(2.0 * cxy, cxx - cyy)
-    return abs(-(x - mx) * math.sin(theta) + (y - my) * math.cos(theta))
+    return mx, my, math.sin(theta), math.cos(theta)
 
 
 @nb.njit(cache=True)
@@ -137,16 +152,19 @@ def _extend(
     tolerance: float,
     min_white: float,
     sums: NDArray[np.float64],
+    best_d: NDArray[np.float64],
+    best_p: NDArray[np.int64],
 ) -> int:  # pragma: no cover - compiled
-    """The best next point at the chain's tail (or head), or -1 (DNT Algorithm 1, lines 5-9)."""
+    """The best next point at the chain's tail (or head), or -1 (DNT Algorithm 1, lines 5-9);
+    ``best_d`` and ``best_p`` (5 each) are scratch space for the five nearest candidates."""
     end = chain[hi - 1] if tail else chain[lo]
     other = chain[lo] if tail else chain[hi - 1]
     ex, ey = pts[end, 0], pts[end, 1]
     fx, fy = ex - pts[other, 0], ey - pts[other, 1]
     gx0 = int(ex / cell)
     gy0 = int(ey / cell)
-    best_d = np.full(5, np.inf)
-    best_p = np.full(5, -1, dtype=np.int64)
+    best_d[:] = np.inf
+    best_p[:] = -1
     for gy in range(max(0, gy0 - 1), min(gh, gy0 + 2)):
         for gx in range(max(0, gx0 - 1), min(gw, gx0 + 2)):
             c = gy * gw + gx
@@ -171,15 +189,22 @@ def _extend(
                     best_p[m] = p
     choice = -1
     choice_ratio = -1.0
+    have_line = False  # the chain's line (trigonometry) is computed once, for the first candidate needing it
+    mx = my = sn = cs = 0.0
     for m in range(5):
         p = best_p[m]
         if p < 0:
             break
         # eq. 1 for the chain with p appended, about the chain's least-squares line (cheap: first)
         e = _scatter_error(sums, pts[p, 0], pts[p, 1])
-        if e > tolerance * tolerance * (hi - lo + 1) or _off_line(sums, pts[p, 0], pts[p, 1]) > 2.0 * tolerance:
+        if e > tolerance * tolerance * (hi - lo + 1):
             continue
-        ratio = white_ratio_nb(classes, ex, ey, pts[p, 0], pts[p, 1])
+        if not have_line:
+            mx, my, sn, cs = _line_of(sums)
+            have_line = True
+        if abs(-(pts[p, 0] - mx) * sn + (pts[p, 1] - my) * cs) > 2.0 * tolerance:
+            continue  # farther than 2 tolerance from the chain's line (0 below 3 points)
+        ratio = white_ratio_nb(classes, ex, ey, pts[p, 0], pts[p, 1], min_white, choice_ratio)
         if ratio < min_white or ratio <= choice_ratio:
             continue
         choice = p
@@ -188,34 +213,41 @@ def _extend(
 
 
 @nb.njit(cache=True)
-def _fit(pts: NDArray[np.float64], idx: NDArray[np.int64], out: NDArray[np.float64]) -> float:  # pragma: no cover
-    """Least-squares line of the points ``idx``: end points into ``out[0:4]``; returns the rms distance."""
-    n = idx.shape[0]
+def _fit(
+    pts: NDArray[np.float64], first: NDArray[np.int64], second: NDArray[np.int64], out: NDArray[np.float64]
+) -> float:  # pragma: no cover - compiled
+    """Least-squares line of the points ``first`` followed by ``second`` (summed in that order,
+    so a trial merge needs no concatenated copy): end points into ``out[0:4]``; returns the rms
+    distance."""
+    n = first.shape[0] + second.shape[0]
     mx = 0.0
     my = 0.0
-    for p in idx:
-        mx += pts[p, 0]
-        my += pts[p, 1]
+    for idx in (first, second):
+        for p in idx:
+            mx += pts[p, 0]
+            my += pts[p, 1]
     mx /= n
     my /= n
     sxx = 0.0
     sxy = 0.0
     syy = 0.0
-    for p in idx:
-        dx, dy = pts[p, 0] - mx, pts[p, 1] - my
-        sxx += dx * dx
-        sxy += dx * dy
-        syy += dy * dy
+    for idx in (first, second):
+        for p in idx:
+            dx, dy = pts[p, 0] - mx, pts[p, 1] - my
+            sxx += dx * dx
+            sxy += dx * dy
+            syy += dy * dy
     theta = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
     c, s = math.cos(theta), math.sin(theta)
     tmin, tmax, r2 = np.inf, -np.inf, 0.0
-    for p in idx:
-        dx, dy = pts[p, 0] - mx, pts[p, 1] - my
-        t = dx * c + dy * s
-        tmin = min(tmin, t)
-        tmax = max(tmax, t)
-        q = -dx * s + dy * c
-        r2 += q * q
+    for idx in (first, second):
+        for p in idx:
+            dx, dy = pts[p, 0] - mx, pts[p, 1] - my
+            t = dx * c + dy * s
+            tmin = min(tmin, t)
+            tmax = max(tmax, t)
+            q = -dx * s + dy * c
+            r2 += q * q
     out[0] = mx + tmin * c
     out[1] = my + tmin * s
     out[2] = mx + tmax * c
@@ -250,6 +282,8 @@ def segments_nb(
     used = np.zeros(n, dtype=np.bool_)
     chain = np.empty(2 * n + 2, dtype=np.int64)
     sums = np.zeros(6)
+    best_d = np.empty(5)
+    best_p = np.empty(5, dtype=np.int64)
     n_seg = 0
     for s in range(n):
         if used[s]:
@@ -264,7 +298,7 @@ def segments_nb(
             while True:
                 p = _extend(
                     pts, classes, chain, lo, hi, tail, used, start, order, cell, gw, gh, gap, tolerance, min_white,
-                    sums,
+                    sums, best_d, best_p,
                 )  # fmt: skip
                 if p < 0:
                     break
@@ -296,9 +330,13 @@ def segments_nb(
         if labels[p] >= 0:
             flat[fill[labels[p]]] = p
             fill[labels[p]] += 1
+    none = np.empty(0, dtype=np.int64)
+    theta = np.empty(n_seg)  # direction of each chain's line (kept with its ends: atan2 once per change)
     for g in range(n_seg):
         members.append(flat[sizes[g] : sizes[g + 1]].copy())
-        _fit(pts, members[g], ends[g])
+        _fit(pts, members[g], none, ends[g])
+        theta[g] = _direction(ends[g])
+    trial = np.empty(4)
     merged = True
     passes = 0
     while merged and passes < 6:
@@ -310,17 +348,16 @@ def segments_nb(
             for b in range(a + 1, n_seg):
                 if not alive[b]:
                     continue
-                if not _collinear(ends[a], ends[b], merge_angle):
+                if not _collinear(theta[a], theta[b], merge_angle):
                     continue
-                both = np.concatenate((members[a], members[b]))
-                trial = np.empty(4)
-                rms = _fit(pts, both, trial)
+                rms = _fit(pts, members[a], members[b], trial)
                 if rms > tolerance:
                     continue
                 if not _connected(classes, ends[a], ends[b], gap, min_white):
                     continue
-                members[a] = both
+                members[a] = np.concatenate((members[a], members[b]))
                 ends[a, :] = trial
+                theta[a] = _direction(trial)
                 alive[b] = False
                 merged = True
     count = 0
@@ -341,9 +378,14 @@ def segments_nb(
 
 
 @nb.njit(cache=True)
-def _collinear(a: NDArray[np.float64], b: NDArray[np.float64], max_angle: float) -> bool:  # pragma: no cover
-    ta = math.atan2(a[3] - a[1], a[2] - a[0])
-    tb = math.atan2(b[3] - b[1], b[2] - b[0])
+def _direction(a: NDArray[np.float64]) -> float:  # pragma: no cover - compiled
+    """Direction (rad) of the segment ``a`` (u1, v1, u2, v2) from its first end to its second."""
+    return math.atan2(a[3] - a[1], a[2] - a[0])
+
+
+@nb.njit(cache=True)
+def _collinear(ta: float, tb: float, max_angle: float) -> bool:  # pragma: no cover - compiled
+    """Directions ``ta`` and ``tb`` (rad) differ by at most ``max_angle`` as undirected lines."""
     d = abs(ta - tb) % math.pi
     return min(d, math.pi - d) <= max_angle
 
@@ -363,4 +405,4 @@ def _connected(
     # overlapping segments (one end inside the other's span) are connected
     if best <= gap:
         return True
-    return white_ratio_nb(classes, a[2 * bi], a[2 * bi + 1], b[2 * bj], b[2 * bj + 1]) >= min_white
+    return white_ratio_nb(classes, a[2 * bi], a[2 * bi + 1], b[2 * bj], b[2 * bj + 1], min_white) >= min_white
