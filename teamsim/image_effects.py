@@ -35,9 +35,10 @@ redrawn a slice per image, about ``POOL_REUSE`` uses per value.
 
 **Compiled passes** (:func:`_effects`, one call per image): the blurs and the skew write
 float32 images; the photometric step (gains, vignetting, noise and rounding in one loop per
-value, :func:`_dn`) reads the last of them and writes the 8-bit image. The last blur is done
-in the same loop as the photometric step where that saves a pass over the image: a vertical
-blur after a horizontal one (:func:`_blur_cols_photometric`), a short horizontal blur alone
+value, :func:`_dn`) reads the last of them and writes the 8-bit image. The last geometric
+step is done in the same loop as the photometric step where that saves a pass over the image:
+the rolling-shutter skew (:func:`_rolling_shutter_photometric`), else a vertical blur after a
+horizontal one (:func:`_blur_cols_photometric`) or a short horizontal blur alone
 (:func:`_blur_rows_photometric`). Every value is computed by the same float32 operations, in
 the same order, whichever way the passes are combined.
 """
@@ -206,40 +207,6 @@ def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _rolling_shutter(src: NDArray, dst: NDArray[np.float32], sx: float, sy: float) -> None:
-    """Rolling-shutter skew from ``src`` (H x 3W) into ``dst``.
-
-    Row ``j`` (time factor ``t = j + 0.5 - H/2`` rows) shows the image shifted ``sx t`` px right
-    and ``sy t`` px up: it samples ``(u - sx t, j + sy t)``, bilinear, borders replicated.
-    """
-    H, W = src.shape[0], src.shape[1] // 3
-    for j in range(H):
-        t = j + 0.5 - 0.5 * H
-        x = min(max(-sx * t, -2.0 * W), 2.0 * W)  # source column offset (px); beyond +-W all is edge
-        m = math.floor(x)
-        a = np.float32(x - m)
-        y = min(max(j + sy * t, -2.0 * H), 3.0 * H)  # source row (px)
-        y0 = math.floor(y)
-        b = np.float32(y - y0)
-        A, B = src[min(max(y0, 0), H - 1)], src[min(max(y0 + 1, 0), H - 1)]
-        d = dst[j]
-        one = np.float32(1.0)
-        w00, w01, w10, w11 = (one - a) * (one - b), a * (one - b), (one - a) * b, a * b
-        i0, i1 = max(0, -m), min(W, W - 1 - m)  # columns whose two sources are inside the row
-        if i1 > i0:
-            n = 3 * (i1 - i0)
-            di, a0, a1 = d[3 * i0 : 3 * i1], A[3 * (i0 + m) :], A[3 * (i0 + m + 1) :]
-            b0, b1 = B[3 * (i0 + m) :], B[3 * (i0 + m + 1) :]
-            for q in range(n):
-                di[q] = w00 * a0[q] + w01 * a1[q] + w10 * b0[q] + w11 * b1[q]
-        for k in range(W - max(i1 - i0, 0)):  # columns with a source outside the row
-            i = k if k < i0 else k + max(i1 - i0, 0)
-            q0, q1 = 3 * min(max(i + m, 0), W - 1), 3 * min(max(i + m + 1, 0), W - 1)
-            for c in range(3):
-                d[3 * i + c] = w00 * A[q0 + c] + w01 * A[q1 + c] + w10 * B[q0 + c] + w11 * B[q1 + c]
-
-
-@nb.njit(cache=True, fastmath=FASTMATH)
 def _gains(gain: NDArray[np.float64], vcol: NDArray[np.float32]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
     """Per value of a row (3W): the channel gain ``gv`` and ``gc = gv vcol[i]``; a value of row ``j``
     is scaled by ``vrow[j] gv - gc`` (gains and vignetting)."""
@@ -378,6 +345,68 @@ def _blur_cols_photometric(
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
+def _rolling_shutter_photometric(
+    src: NDArray,
+    dst: NDArray[np.uint8],
+    sx: float,
+    sy: float,
+    gain: NDArray[np.float64],
+    vrow: NDArray[np.float32],
+    vcol: NDArray[np.float32],
+    pool: NDArray[np.float32],
+    offset: int,
+    read2: float,
+    shot: float,
+) -> None:
+    """Rolling-shutter skew of ``src`` (H x 3W, not ``dst``) and the photometric step of
+    :func:`_photometric`, in one loop per row, into ``dst``.
+
+    Row ``j`` (time factor ``t = j + 0.5 - H/2`` rows) shows the image shifted ``sx t`` px right
+    and ``sy t`` px up: it samples ``(u - sx t, j + sy t)``, bilinear, borders replicated.
+    """
+    H, n = src.shape
+    W = n // 3
+    gv, gc = _gains(gain, vcol)
+    r2, sh = np.float32(read2), np.float32(shot)
+    one = np.float32(1.0)
+    for j in range(H):
+        t = j + 0.5 - 0.5 * H
+        x = min(max(-sx * t, -2.0 * W), 2.0 * W)  # source column offset (px); beyond +-W all is edge
+        m = math.floor(x)
+        a = np.float32(x - m)
+        y = min(max(j + sy * t, -2.0 * H), 3.0 * H)  # source row (px)
+        y0 = math.floor(y)
+        b = np.float32(y - y0)
+        A, B = src[min(max(y0, 0), H - 1)], src[min(max(y0 + 1, 0), H - 1)]
+        d, vr = dst[j], vrow[j]
+        z = pool[offset + j * n : offset + (j + 1) * n]
+        w00, w01, w10, w11 = (one - a) * (one - b), a * (one - b), (one - a) * b, a * b
+        i0, i1 = max(0, -m), min(W, W - 1 - m)  # columns whose two sources are inside the row
+        if i1 > i0:
+            lo = 3 * i0
+            di, a0, a1 = d[lo : 3 * i1], A[3 * (i0 + m) :], A[3 * (i0 + m + 1) :]
+            b0, b1, gvi, gci, zi = B[3 * (i0 + m) :], B[3 * (i0 + m + 1) :], gv[lo:], gc[lo:], z[lo:]
+            for q in range(3 * (i1 - i0)):
+                v = w00 * a0[q] + w01 * a1[q] + w10 * b0[q] + w11 * b1[q]
+                di[q] = _dn(v * (vr * gvi[q] - gci[q]), zi[q], r2, sh)
+        for k in range(W - max(i1 - i0, 0)):  # columns with a source outside the row
+            i = k if k < i0 else k + max(i1 - i0, 0)
+            q0, q1 = 3 * min(max(i + m, 0), W - 1), 3 * min(max(i + m + 1, 0), W - 1)
+            for c in range(3):
+                v = w00 * A[q0 + c] + w01 * A[q1 + c] + w10 * B[q0 + c] + w11 * B[q1 + c]
+                p = 3 * i + c
+                d[p] = _dn(v * (vr * gv[p] - gc[p]), z[p], r2, sh)
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _copy(src: NDArray[np.uint8], dst: NDArray[np.uint8]) -> None:
+    """``dst[:] = src`` for two H x 3W images (a loop: numba's slice assignment is much slower)."""
+    a, b = src.reshape(src.size), dst.reshape(dst.size)
+    for q in range(a.size):
+        b[q] = a[q]
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
 def _effects(
     img: NDArray[np.uint8],
     lh: float,
@@ -401,24 +430,22 @@ def _effects(
     vignetting and noise (``pool[offset:]``). ``buf0``, ``buf1`` (H x 3W float32) hold intermediate
     images, ``copy`` (H x 3W uint8) the input when no blur comes first.
 
-    The last blur runs in one loop with the photometric step (no float image in between): a
-    vertical one after a horizontal one, or a short horizontal one alone.
+    The last geometric step runs in one loop with the photometric step (no float image in
+    between): the skew, a vertical blur after a horizontal one, or a short horizontal one alone.
     """
-    H, n = img.shape
-    if shutter:  # the blurs, the skew (it reads any row), then the photometric step
-        if lh > 0.0 and lv > 0.0:
-            _blur_rows(img, buf0, lh)
-            _blur_cols(buf0, buf1, lv)
-            _rolling_shutter(buf1, buf0, sx, sy)
-        elif lh > 0.0:
-            _blur_rows(img, buf1, lh)
-            _rolling_shutter(buf1, buf0, sx, sy)
-        elif lv > 0.0:
-            _blur_cols(img, buf1, lv)
-            _rolling_shutter(buf1, buf0, sx, sy)
+    if shutter:  # the blurs, then the skew (it reads any row) with the photometric step
+        if lh > 0.0 or lv > 0.0:
+            if lh > 0.0 and lv > 0.0:
+                _blur_rows(img, buf1, lh)
+                _blur_cols(buf1, buf0, lv)
+            elif lh > 0.0:
+                _blur_rows(img, buf0, lh)
+            else:
+                _blur_cols(img, buf0, lv)
+            _rolling_shutter_photometric(buf0, img, sx, sy, gain, vrow, vcol, pool, offset, read2, shot)
         else:
-            _rolling_shutter(img, buf0, sx, sy)
-        _photometric(buf0, img, gain, vrow, vcol, pool, offset, read2, shot)
+            _copy(img, copy)
+            _rolling_shutter_photometric(copy, img, sx, sy, gain, vrow, vcol, pool, offset, read2, shot)
     elif lh > 0.0 and lv > 0.0:
         _blur_rows(img, buf0, lh)
         _blur_cols_photometric(buf0, img, lv, gain, vrow, vcol, pool, offset, read2, shot)
@@ -431,9 +458,7 @@ def _effects(
         _blur_rows(img, buf0, lh)
         _photometric(buf0, img, gain, vrow, vcol, pool, offset, read2, shot)
     else:
-        a, b = img.reshape(H * n), copy.reshape(H * n)
-        for q in range(H * n):
-            b[q] = a[q]
+        _copy(img, copy)
         _photometric(copy, img, gain, vrow, vcol, pool, offset, read2, shot)
 
 
