@@ -182,15 +182,22 @@ def _blur_rows(src: NDArray[np.uint8], dst: NDArray[np.float32], length: float) 
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
-    """Vertical motion blur of ``length`` px from ``src`` (H x 3W) into ``dst``: running sums over rows."""
-    H, n = src.shape[0], src.shape[1]
+def _col_weights(length: float) -> tuple[int, np.float32, np.float32, np.float32, np.float32, np.float32]:
+    """Constants of a vertical blur of ``length`` px (running sums over rows, see :func:`_blur_cols`):
+    kh = floor(L / 2), 1 / L and the weights of the partial rows at the window's ends."""
     h = 0.5 * length
     kh = math.floor(h)
-    inv = np.float32(1.0 / length)
     ar, al = h - kh, 1.0 - (h - kh)
     cr0, cr1 = np.float32(ar - 0.5 * ar * ar), np.float32(0.5 * ar * ar)
     cl0, cl1 = np.float32(al - 0.5 * al * al), np.float32(0.5 * al * al)
+    return kh, np.float32(1.0 / length), cr0, cr1, cl0, cl1
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
+    """Vertical motion blur of ``length`` px from ``src`` (H x 3W) into ``dst``: running sums over rows."""
+    H, n = src.shape[0], src.shape[1]
+    kh, inv, cr0, cr1, cl0, cl1 = _col_weights(length)
     S = np.zeros(n, dtype=np.float32)  # trapezoid sums over rows [j - kh - 1, j + kh], all columns
     for m in range(-kh - 1, kh):
         a, b = src[min(max(m, 0), H - 1)], src[min(max(m + 1, 0), H - 1)]
@@ -291,15 +298,15 @@ def _blur_rows_photometric(
             d[q] = _dn(t[q] * (a * gv[q] - gc[q]), z[q], r2, sh)
         for q in range(lo + m, n):
             d[q] = _dn(t[q] * (a * gv[q] - gc[q]), z[q], r2, sh)
-        ti, b1, a1, gvi, gci, zi, di = t[lo:], sf[lo - 3 :], sf[lo + 3 :], gv[lo:], gc[lo:], z[lo:], d[lo:]
-        if K == 1:
+        ti, l1, r1, gvi, gci, zi, di = t[lo:], sf[lo - 3 :], sf[lo + 3 :], gv[lo:], gc[lo:], z[lo:], d[lo:]
+        if K == 1:  # the side taps at 1 px to the left and right, then (K = 2) at 2 px
             for q in range(m):
-                v = ti[q] + w1 * (b1[q] + a1[q])
+                v = ti[q] + w1 * (l1[q] + r1[q])
                 di[q] = _dn(v * (a * gvi[q] - gci[q]), zi[q], r2, sh)
         else:
-            b2, a2 = sf[lo - 6 :], sf[lo + 6 :]
+            l2, r2_ = sf[lo - 6 :], sf[lo + 6 :]
             for q in range(m):
-                v = (ti[q] + w1 * (b1[q] + a1[q])) + w2 * (b2[q] + a2[q])
+                v = (ti[q] + w1 * (l1[q] + r1[q])) + w2 * (l2[q] + r2_[q])
                 di[q] = _dn(v * (a * gvi[q] - gci[q]), zi[q], r2, sh)
 
 
@@ -319,12 +326,7 @@ def _blur_cols_photometric(
     """:func:`_blur_cols` and :func:`_photometric` in one loop per row: ``src`` (H x 3W float32,
     blurred horizontally) into ``dst``. Each value is rounded as in the two passes."""
     H, n = src.shape
-    h = 0.5 * length
-    kh = math.floor(h)
-    inv = np.float32(1.0 / length)
-    ar, al = h - kh, 1.0 - (h - kh)
-    cr0, cr1 = np.float32(ar - 0.5 * ar * ar), np.float32(0.5 * ar * ar)
-    cl0, cl1 = np.float32(al - 0.5 * al * al), np.float32(0.5 * al * al)
+    kh, inv, cr0, cr1, cl0, cl1 = _col_weights(length)
     gv, gc = _gains(gain, vcol)
     r2, sh = np.float32(read2), np.float32(shot)
     S = np.zeros(n, dtype=np.float32)  # trapezoid sums over rows [j - kh - 1, j + kh], all columns
