@@ -32,6 +32,15 @@ renderer draws it with the scene (:func:`teamsim.image_venue.light_map`,
 Random numbers come only from the ``numpy.random.Generator`` handed in; the sensor noise
 reads a pool of pre-drawn standard normals at a random start per image, and the pool is
 redrawn a slice per image, about ``POOL_REUSE`` uses per value.
+
+**Compiled passes** (:func:`_effects`, one call per image): the blurs and the skew write
+float32 images; the photometric step (gains, vignetting, noise and rounding in one loop per
+value, :func:`_dn`) reads the last of them and writes the 8-bit image. The last geometric
+step is done in the same loop as the photometric step where that saves a pass over the image:
+the rolling-shutter skew (:func:`_rolling_shutter_photometric`), else a vertical blur after a
+horizontal one (:func:`_blur_cols_photometric`) or a short horizontal blur alone
+(:func:`_blur_rows_photometric`). Every value is computed by the same float32 operations, in
+the same order, whichever way the passes are combined.
 """
 
 from __future__ import annotations
@@ -57,6 +66,7 @@ POOL_SIZE = 1 << 21
 """Minimum number of standard normals in the noise pool (float32); at least twice an image."""
 POOL_REUSE = 256
 """Each image redraws ``ceil(n / POOL_REUSE)`` pool values (``n`` = values per image), cyclically."""
+_ROUND = np.float32(1.5 * 2**23)  # x + _ROUND holds the nearest integer to x (0 <= x < 2^22) in its low bits
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -69,6 +79,36 @@ def _tri_cdf(x: float) -> float:
     if x < 1.0:
         return 1.0 - 0.5 * (1.0 - x) ** 2
     return 1.0
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _taps(length: float) -> NDArray[np.float32]:
+    """Weights of the direct horizontal blur of ``length`` px at offsets 0..K (symmetric), K =
+    ceil(L / 2): the overlap of each pixel's footprint with the blur box, over ``L``."""
+    h = 0.5 * length
+    inv = 1.0 / length
+    K = math.ceil(h)
+    w = np.empty(K + 1, dtype=np.float32)
+    for k in range(K + 1):
+        w[k] = (_tri_cdf(h - k) - _tri_cdf(-h - k)) * inv
+    return w
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _blur_border(s: NDArray, d: NDArray[np.float32], w: NDArray[np.float32]) -> None:
+    """The pixels within ``K`` (= len(w) - 1) of either end of row ``s`` (3W) blurred by the taps
+    ``w`` into ``d``, borders replicated (the interior is the caller's vector loop)."""
+    K = w.shape[0] - 1
+    W = s.shape[0] // 3
+    inner = max(W - 2 * K, 0)
+    for k_ in range(W - inner):
+        i = k_ if k_ < K else k_ + inner
+        for c in range(3):
+            acc = w[0] * np.float32(s[3 * i + c])
+            for k in range(1, K + 1):
+                lft, rgt = 3 * max(i - k, 0) + c, 3 * min(i + k, W - 1) + c
+                acc += w[k] * (np.float32(s[lft]) + np.float32(s[rgt]))
+            d[3 * i + c] = acc
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -85,9 +125,7 @@ def _blur_rows(src: NDArray[np.uint8], dst: NDArray[np.float32], length: float) 
     inv = 1.0 / length
     K = math.ceil(h)
     if K <= DIRECT_HALF_WIDTH:
-        w = np.empty(K + 1, dtype=np.float32)  # tap weights at offsets 0..K (symmetric)
-        for k in range(K + 1):
-            w[k] = (_tri_cdf(h - k) - _tri_cdf(-h - k)) * inv
+        w = _taps(length)
         lo, m = 3 * K, n - 6 * K  # interior: pixels K..W-K-1, flat indices lo..lo+m-1
         for j in range(H):
             s, d = src[j], dst[j]
@@ -99,14 +137,7 @@ def _blur_rows(src: NDArray[np.uint8], dst: NDArray[np.float32], length: float) 
                     a, b, wk = s[lo - 3 * k : lo - 3 * k + m], s[lo + 3 * k : lo + 3 * k + m], w[k]
                     for q in range(m):
                         di[q] += wk * (np.float32(a[q]) + np.float32(b[q]))
-            for k_ in range(W - max(m, 0) // 3):  # the border pixels
-                i = k_ if k_ < K else k_ + max(m, 0) // 3
-                for c in range(3):
-                    acc = w[0] * np.float32(s[3 * i + c])
-                    for k in range(1, K + 1):
-                        lft, rgt = 3 * max(i - k, 0) + c, 3 * min(i + k, W - 1) + c
-                        acc += w[k] * (np.float32(s[lft]) + np.float32(s[rgt]))
-                    d[3 * i + c] = acc
+            _blur_border(s, d, w)
         return
     # out(i) L = C(i + h) - C(i - h), C the integral of the interpolated row; with kh = floor(h) the
     # window runs from pixel i - kh - 1 (extended index t = i) to i + kh (t = i + o / 3), fractions at the ends
@@ -151,15 +182,22 @@ def _blur_rows(src: NDArray[np.uint8], dst: NDArray[np.float32], length: float) 
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
-    """Vertical motion blur of ``length`` px from ``src`` (H x 3W) into ``dst``: running sums over rows."""
-    H, n = src.shape[0], src.shape[1]
+def _col_weights(length: float) -> tuple[int, np.float32, np.float32, np.float32, np.float32, np.float32]:
+    """Constants of a vertical blur of ``length`` px (running sums over rows, see :func:`_blur_cols`):
+    kh = floor(L / 2), 1 / L and the weights of the partial rows at the window's ends."""
     h = 0.5 * length
     kh = math.floor(h)
-    inv = np.float32(1.0 / length)
     ar, al = h - kh, 1.0 - (h - kh)
     cr0, cr1 = np.float32(ar - 0.5 * ar * ar), np.float32(0.5 * ar * ar)
     cl0, cl1 = np.float32(al - 0.5 * al * al), np.float32(0.5 * al * al)
+    return kh, np.float32(1.0 / length), cr0, cr1, cl0, cl1
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
+    """Vertical motion blur of ``length`` px from ``src`` (H x 3W) into ``dst``: running sums over rows."""
+    H, n = src.shape[0], src.shape[1]
+    kh, inv, cr0, cr1, cl0, cl1 = _col_weights(length)
     S = np.zeros(n, dtype=np.float32)  # trapezoid sums over rows [j - kh - 1, j + kh], all columns
     for m in range(-kh - 1, kh):
         a, b = src[min(max(m, 0), H - 1)], src[min(max(m + 1, 0), H - 1)]
@@ -176,13 +214,163 @@ def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _rolling_shutter(src: NDArray, dst: NDArray[np.float32], sx: float, sy: float) -> None:
-    """Rolling-shutter skew from ``src`` (H x 3W) into ``dst``.
+def _gains(gain: NDArray[np.float64], vcol: NDArray[np.float32]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Per value of a row (3W): the channel gain ``gv`` and ``gc = gv vcol[i]``; a value of row ``j``
+    is scaled by ``vrow[j] gv - gc`` (gains and vignetting)."""
+    W = vcol.shape[0]
+    gv = np.empty(3 * W, dtype=np.float32)
+    gc = np.empty(3 * W, dtype=np.float32)
+    for i in range(W):
+        for c in range(3):
+            g = np.float32(gain[c])
+            gv[3 * i + c] = g
+            gc[3 * i + c] = g * vcol[i]
+    return gv, gc
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _dn(sig: np.float32, z: np.float32, r2: np.float32, sh: np.float32) -> np.uint8:
+    """Signal ``sig`` (DN) with noise ``sqrt(r2 + sh sig) z``, rounded to the nearest integer (ties to
+    even, as ``rint``) and clipped to 0..255. The integer is in the low bits of the clipped value
+    plus 1.5 2^23: one addition instead of a rounding and a pack, in vector loops."""
+    y = sig + np.sqrt(r2 + sh * max(sig, np.float32(0.0))) * z
+    return np.uint8(np.int32(min(max(y, np.float32(0.0)), np.float32(255.0)) + _ROUND))
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _photometric(
+    src: NDArray,
+    dst: NDArray[np.uint8],
+    gain: NDArray[np.float64],
+    vrow: NDArray[np.float32],
+    vcol: NDArray[np.float32],
+    pool: NDArray[np.float32],
+    offset: int,
+    read2: float,
+    shot: float,
+) -> None:
+    """Gains, vignetting ``vrow[j] - vcol[i]``, noise ``pool[offset:]`` (:func:`_dn`): ``src`` (H x 3W,
+    not ``dst``: loops vectorize only where reads and writes cannot overlap) into ``dst``."""
+    H, n = src.shape
+    gv, gc = _gains(gain, vcol)
+    r2, sh = np.float32(read2), np.float32(shot)
+    for j in range(H):
+        s, d, a = src[j], dst[j], vrow[j]
+        z = pool[offset + j * n : offset + (j + 1) * n]
+        for q in range(n):
+            d[q] = _dn(np.float32(s[q]) * (a * gv[q] - gc[q]), z[q], r2, sh)
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _blur_rows_photometric(
+    img: NDArray[np.uint8],
+    length: float,
+    gain: NDArray[np.float64],
+    vrow: NDArray[np.float32],
+    vcol: NDArray[np.float32],
+    pool: NDArray[np.float32],
+    offset: int,
+    read2: float,
+    shot: float,
+) -> None:
+    """:func:`_blur_rows` (direct taps only) and :func:`_photometric` of ``img`` (H x 3W) in place,
+    row by row: the row as float32, its centre tap and borders, then one loop adds the side
+    taps and maps to 8 bits. Each value is rounded as in the two passes."""
+    H, n = img.shape
+    w = _taps(length)
+    K = w.shape[0] - 1
+    lo, m = 3 * K, max(n - 6 * K, 0)  # interior values lo..lo+m-1
+    gv, gc = _gains(gain, vcol)
+    r2, sh = np.float32(read2), np.float32(shot)
+    sf = np.empty(n, dtype=np.float32)  # the row
+    t = np.empty(n, dtype=np.float32)  # the blurred row: centre tap first
+    w0, w1 = w[0], w[1]
+    w2 = w[2] if K > 1 else np.float32(0.0)
+    for j in range(H):
+        s, d, a = img[j], img[j], vrow[j]
+        for q in range(n):
+            x = np.float32(s[q])
+            sf[q] = x
+            t[q] = w0 * x
+        _blur_border(sf, t, w)
+        z = pool[offset + j * n : offset + (j + 1) * n]
+        for q in range(lo):
+            d[q] = _dn(t[q] * (a * gv[q] - gc[q]), z[q], r2, sh)
+        for q in range(lo + m, n):
+            d[q] = _dn(t[q] * (a * gv[q] - gc[q]), z[q], r2, sh)
+        ti, l1, r1, gvi, gci, zi, di = t[lo:], sf[lo - 3 :], sf[lo + 3 :], gv[lo:], gc[lo:], z[lo:], d[lo:]
+        if K == 1:  # the side taps at 1 px to the left and right, then (K = 2) at 2 px
+            for q in range(m):
+                v = ti[q] + w1 * (l1[q] + r1[q])
+                di[q] = _dn(v * (a * gvi[q] - gci[q]), zi[q], r2, sh)
+        else:
+            l2, r2_ = sf[lo - 6 :], sf[lo + 6 :]
+            for q in range(m):
+                v = (ti[q] + w1 * (l1[q] + r1[q])) + w2 * (l2[q] + r2_[q])
+                di[q] = _dn(v * (a * gvi[q] - gci[q]), zi[q], r2, sh)
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _blur_cols_photometric(
+    src: NDArray[np.float32],
+    dst: NDArray[np.uint8],
+    length: float,
+    gain: NDArray[np.float64],
+    vrow: NDArray[np.float32],
+    vcol: NDArray[np.float32],
+    pool: NDArray[np.float32],
+    offset: int,
+    read2: float,
+    shot: float,
+) -> None:
+    """:func:`_blur_cols` and :func:`_photometric` in one loop per row: ``src`` (H x 3W float32,
+    blurred horizontally) into ``dst``. Each value is rounded as in the two passes."""
+    H, n = src.shape
+    kh, inv, cr0, cr1, cl0, cl1 = _col_weights(length)
+    gv, gc = _gains(gain, vcol)
+    r2, sh = np.float32(read2), np.float32(shot)
+    S = np.zeros(n, dtype=np.float32)  # trapezoid sums over rows [j - kh - 1, j + kh], all columns
+    for m in range(-kh - 1, kh):
+        a, b = src[min(max(m, 0), H - 1)], src[min(max(m + 1, 0), H - 1)]
+        for p in range(n):
+            S[p] += np.float32(0.5) * (a[p] + b[p])
+    for j in range(H):
+        fr, fr1 = src[min(j + kh, H - 1)], src[min(j + kh + 1, H - 1)]
+        fl, fl1 = src[max(j - kh - 1, 0)], src[max(j - kh, 0)]
+        d, a = dst[j], vrow[j]
+        z = pool[offset + j * n : offset + (j + 1) * n]
+        for p in range(n):
+            r, r1, q, q1 = fr[p], fr1[p], fl[p], fl1[p]
+            v = (S[p] + cr0 * r + cr1 * r1 - cl0 * q - cl1 * q1) * inv
+            S[p] += np.float32(0.5) * (r + r1 - q - q1)
+            d[p] = _dn(v * (a * gv[p] - gc[p]), z[p], r2, sh)
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _rolling_shutter_photometric(
+    src: NDArray,
+    dst: NDArray[np.uint8],
+    sx: float,
+    sy: float,
+    gain: NDArray[np.float64],
+    vrow: NDArray[np.float32],
+    vcol: NDArray[np.float32],
+    pool: NDArray[np.float32],
+    offset: int,
+    read2: float,
+    shot: float,
+) -> None:
+    """Rolling-shutter skew of ``src`` (H x 3W, not ``dst``) and the photometric step of
+    :func:`_photometric`, in one loop per row, into ``dst``.
 
     Row ``j`` (time factor ``t = j + 0.5 - H/2`` rows) shows the image shifted ``sx t`` px right
     and ``sy t`` px up: it samples ``(u - sx t, j + sy t)``, bilinear, borders replicated.
     """
-    H, W = src.shape[0], src.shape[1] // 3
+    H, n = src.shape
+    W = n // 3
+    gv, gc = _gains(gain, vcol)
+    r2, sh = np.float32(read2), np.float32(shot)
+    one = np.float32(1.0)
     for j in range(H):
         t = j + 0.5 - 0.5 * H
         x = min(max(-sx * t, -2.0 * W), 2.0 * W)  # source column offset (px); beyond +-W all is edge
@@ -192,59 +380,88 @@ def _rolling_shutter(src: NDArray, dst: NDArray[np.float32], sx: float, sy: floa
         y0 = math.floor(y)
         b = np.float32(y - y0)
         A, B = src[min(max(y0, 0), H - 1)], src[min(max(y0 + 1, 0), H - 1)]
-        d = dst[j]
-        one = np.float32(1.0)
+        d, vr = dst[j], vrow[j]
+        z = pool[offset + j * n : offset + (j + 1) * n]
         w00, w01, w10, w11 = (one - a) * (one - b), a * (one - b), (one - a) * b, a * b
         i0, i1 = max(0, -m), min(W, W - 1 - m)  # columns whose two sources are inside the row
         if i1 > i0:
-            n = 3 * (i1 - i0)
-            di, a0, a1 = d[3 * i0 : 3 * i1], A[3 * (i0 + m) :], A[3 * (i0 + m + 1) :]
-            b0, b1 = B[3 * (i0 + m) :], B[3 * (i0 + m + 1) :]
-            for q in range(n):
-                di[q] = w00 * a0[q] + w01 * a1[q] + w10 * b0[q] + w11 * b1[q]
+            lo = 3 * i0
+            di, a0, a1 = d[lo : 3 * i1], A[3 * (i0 + m) :], A[3 * (i0 + m + 1) :]
+            b0, b1, gvi, gci, zi = B[3 * (i0 + m) :], B[3 * (i0 + m + 1) :], gv[lo:], gc[lo:], z[lo:]
+            for q in range(3 * (i1 - i0)):
+                v = w00 * a0[q] + w01 * a1[q] + w10 * b0[q] + w11 * b1[q]
+                di[q] = _dn(v * (vr * gvi[q] - gci[q]), zi[q], r2, sh)
         for k in range(W - max(i1 - i0, 0)):  # columns with a source outside the row
             i = k if k < i0 else k + max(i1 - i0, 0)
             q0, q1 = 3 * min(max(i + m, 0), W - 1), 3 * min(max(i + m + 1, 0), W - 1)
             for c in range(3):
-                d[3 * i + c] = w00 * A[q0 + c] + w01 * A[q1 + c] + w10 * B[q0 + c] + w11 * B[q1 + c]
+                v = w00 * A[q0 + c] + w01 * A[q1 + c] + w10 * B[q0 + c] + w11 * B[q1 + c]
+                p = 3 * i + c
+                d[p] = _dn(v * (vr * gv[p] - gc[p]), z[p], r2, sh)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _photometric(
-    src: NDArray,
-    dst: NDArray[np.uint8],
-    gain: NDArray[np.float32],
+def _copy(src: NDArray[np.uint8], dst: NDArray[np.uint8]) -> None:
+    """``dst[:] = src`` for two H x 3W images (a loop: numba's slice assignment is much slower)."""
+    a, b = src.reshape(src.size), dst.reshape(dst.size)
+    for q in range(a.size):
+        b[q] = a[q]
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _effects(
+    img: NDArray[np.uint8],
+    lh: float,
+    lv: float,
+    sx: float,
+    sy: float,
+    shutter: bool,
+    gain: NDArray[np.float64],
     vrow: NDArray[np.float32],
     vcol: NDArray[np.float32],
     pool: NDArray[np.float32],
     offset: int,
     read2: float,
     shot: float,
-    noise: bool,
+    buf0: NDArray[np.float32],
+    buf1: NDArray[np.float32],
+    copy: NDArray[np.uint8],
 ) -> None:
-    """Gains, vignetting ``vrow[j] - vcol[i]``, noise ``pool[offset:]``, rounding: ``src`` (H x 3W) into ``dst``."""
-    H, W = src.shape[0], src.shape[1] // 3
-    n = 3 * W
-    gv = np.empty(n, dtype=np.float32)
-    gc = np.empty(n, dtype=np.float32)
-    for i in range(W):
-        for c in range(3):
-            gv[3 * i + c] = gain[c]
-            gc[3 * i + c] = gain[c] * vcol[i]
-    r2, sh, zero, top = np.float32(read2), np.float32(shot), np.float32(0.0), np.float32(255.0)
-    sig = np.empty(n, dtype=np.float32)  # the row's signal (DN); src may be dst
-    for j in range(H):
-        s, d, a = src[j], dst[j], vrow[j]
-        for q in range(n):
-            sig[q] = np.float32(s[q]) * (a * gv[q] - gc[q])
-        if noise:
-            z = pool[offset + j * n : offset + (j + 1) * n]
-            for q in range(n):
-                y = sig[q] + np.sqrt(r2 + sh * max(sig[q], zero)) * z[q]
-                d[q] = np.uint8(min(max(np.rint(y), zero), top))
+    """All effects on ``img`` (H x 3W uint8) in place, in one call: horizontal and vertical blur of
+    ``lh``, ``lv`` px (0: none), the rolling-shutter skew (``sx``, ``sy``) if ``shutter``, then gains,
+    vignetting and noise (``pool[offset:]``). ``buf0``, ``buf1`` (H x 3W float32) hold intermediate
+    images, ``copy`` (H x 3W uint8) the input when no blur comes first.
+
+    The last geometric step runs in one loop with the photometric step (no float image in
+    between): the skew, a vertical blur after a horizontal one, or a short horizontal one alone.
+    """
+    if shutter:  # the blurs, then the skew (it reads any row) with the photometric step
+        if lh > 0.0 or lv > 0.0:
+            if lh > 0.0 and lv > 0.0:
+                _blur_rows(img, buf1, lh)
+                _blur_cols(buf1, buf0, lv)
+            elif lh > 0.0:
+                _blur_rows(img, buf0, lh)
+            else:
+                _blur_cols(img, buf0, lv)
+            _rolling_shutter_photometric(buf0, img, sx, sy, gain, vrow, vcol, pool, offset, read2, shot)
         else:
-            for q in range(n):
-                d[q] = np.uint8(min(max(np.rint(sig[q]), zero), top))
+            _copy(img, copy)
+            _rolling_shutter_photometric(copy, img, sx, sy, gain, vrow, vcol, pool, offset, read2, shot)
+    elif lh > 0.0 and lv > 0.0:
+        _blur_rows(img, buf0, lh)
+        _blur_cols_photometric(buf0, img, lv, gain, vrow, vcol, pool, offset, read2, shot)
+    elif lv > 0.0:
+        _blur_cols(img, buf0, lv)
+        _photometric(buf0, img, gain, vrow, vcol, pool, offset, read2, shot)
+    elif lh > 0.0 and math.ceil(0.5 * lh) <= DIRECT_HALF_WIDTH:
+        _blur_rows_photometric(img, lh, gain, vrow, vcol, pool, offset, read2, shot)
+    elif lh > 0.0:
+        _blur_rows(img, buf0, lh)
+        _photometric(buf0, img, gain, vrow, vcol, pool, offset, read2, shot)
+    else:
+        _copy(img, copy)
+        _photometric(copy, img, gain, vrow, vcol, pool, offset, read2, shot)
 
 
 class ImageEffects:
@@ -270,16 +487,21 @@ class ImageEffects:
             and p.white_balance_jitter == 0.0
         )
         self._photometric = self._gains or self._noise or p.vignetting > 0.0
-        self._buffers: dict[tuple[int, int], tuple[NDArray[np.float32], NDArray[np.float32]]] = {}
+        self._active = p.has_effects
+        self._jitter = p.brightness_jitter > 0.0 or p.white_balance_jitter > 0.0
+        self._gain = np.array(p.white_balance, dtype=np.float64) * p.brightness  # channel gains before jitter
+        self._read2 = p.read_noise**2
+        self._buffers: dict[tuple[int, int], tuple[NDArray, NDArray, NDArray]] = {}
         self._vignette: dict[tuple[int, int], tuple[NDArray[np.float32], NDArray[np.float32]]] = {}
         self._pool: NDArray[np.float32] | None = None
+        self._zero_pool = np.zeros(0, dtype=np.float32)
         self._cursor = 0
 
     @property
     def active(self) -> bool:
         """True when the parameters have any effect (``params.has_effects``). All but the hall's
         uneven light, which the renderer draws, are applied by ``apply``."""
-        return self.params.has_effects
+        return self._active
 
     def apply(self, image: np.ndarray, fx: float, fy: float, yaw_rate: float, pitch_rate: float, walking: bool) -> None:
         """Degrade ``image`` (H x W x 3 uint8, C-contiguous, RGB, H and W >= 8) in place.
@@ -298,56 +520,47 @@ class ImageEffects:
         H, W = image.shape[0], image.shape[1]
         if H < 8 or W < 8:
             raise ValueError(f"image must be at least 8 x 8 pixels, got H={H}, W={W}")
-        for name, v in (("fx", fx), ("fy", fy)):
-            if not math.isfinite(v) or v <= 0.0:
-                raise ValueError(f"focal length {name} must be finite and > 0, got {v!r}")
-        for name, v in (("yaw_rate", yaw_rate), ("pitch_rate", pitch_rate)):
-            if not math.isfinite(v):
-                raise ValueError(f"{name} must be finite, got {v!r}")
-        if not self.params.has_effects:
+        if not (math.isfinite(fx) and fx > 0.0 and math.isfinite(fy) and fy > 0.0):
+            name, v = ("fx", fx) if not (math.isfinite(fx) and fx > 0.0) else ("fy", fy)
+            raise ValueError(f"focal length {name} must be finite and > 0, got {v!r}")
+        if not (math.isfinite(yaw_rate) and math.isfinite(pitch_rate)):
+            name, v = ("yaw_rate", yaw_rate) if not math.isfinite(yaw_rate) else ("pitch_rate", pitch_rate)
+            raise ValueError(f"{name} must be finite, got {v!r}")
+        if not self._active:
             return
         p = self.params
-        img = image.reshape(H, 3 * W)
-        cur: NDArray = img
-        bufs = self._buffers.get((H, W))
-        if bufs is None:
-            bufs = self._buffers[H, W] = (np.empty((H, 3 * W), np.float32), np.empty((H, 3 * W), np.float32))
-
-        def spare() -> NDArray[np.float32]:  # the float buffer not holding the current image
-            return bufs[1] if cur is bufs[0] else bufs[0]
-
         lh = min(abs(yaw_rate) * fx * p.exposure, MAX_BLUR)
         lv = min(abs(pitch_rate) * fy * p.exposure + (p.walking_shake if walking else 0.0), MAX_BLUR)
-        if lh >= MIN_BLUR:
-            _blur_rows(cur, dst := spare(), lh)
-            cur = dst
-        if lv >= MIN_BLUR:
-            _blur_cols(cur, dst := spare(), lv)
-            cur = dst
-        if p.rolling_shutter > 0.0:
-            sx, sy = yaw_rate * fx * p.rolling_shutter, pitch_rate * fy * p.rolling_shutter
-            if max(abs(sx), abs(sy)) * H >= MIN_SHIFT:
-                _rolling_shutter(cur, dst := spare(), sx, sy)
-                cur = dst
-        if not self._photometric and cur is img:
+        lh = lh if lh >= MIN_BLUR else 0.0
+        lv = lv if lv >= MIN_BLUR else 0.0
+        sx, sy = yaw_rate * fx * p.rolling_shutter, pitch_rate * fy * p.rolling_shutter
+        shutter = p.rolling_shutter > 0.0 and max(abs(sx), abs(sy)) * H >= MIN_SHIFT
+        if not (self._photometric or lh or lv or shutter):
             return
-        self._photometric_pass(cur, img, H, W)
-
-    def _photometric_pass(self, src: NDArray, img: NDArray[np.uint8], H: int, W: int) -> None:
-        """Draw this image's gains (and noise offset) and run the photometric kernel into ``img``."""
-        p, rng = self.params, self.rng
-        gain = np.array(p.white_balance, dtype=np.float64) * p.brightness
-        if p.brightness_jitter > 0.0 or p.white_balance_jitter > 0.0:
-            z = rng.standard_normal(4)
-            gain *= np.exp(p.brightness_jitter * z[0] + p.white_balance_jitter * z[1:])
+        # this image's random numbers, in this order: gain jitter, noise pool refresh, noise offset
+        gain = self._gain
+        if self._jitter:  # the log gains as floats: the same double arithmetic as on arrays, faster
+            z0, z1, z2, z3 = self.rng.standard_normal(4).tolist()
+            bj, wj = p.brightness_jitter, p.white_balance_jitter
+            gain = gain * np.exp(np.array((bj * z0 + wj * z1, bj * z0 + wj * z2, bj * z0 + wj * z3)))
         vrow, vcol = self._vignetting(H, W)
-        offset = 0
-        pool = self._noise_pool(3 * H * W) if self._noise else vrow
         if self._noise:
-            offset = int(rng.integers(0, pool.size - 3 * H * W + 1))
-        _photometric(
-            src, img, gain.astype(np.float32), vrow, vcol, pool, offset, p.read_noise**2, p.shot_noise, self._noise
-        )
+            pool = self._noise_pool(3 * H * W)
+            offset = int(self.rng.integers(0, pool.size - 3 * H * W + 1))
+        else:  # zero noise: y = signal + sigma * 0 is the signal exactly
+            pool, offset = self._zeros(3 * H * W), 0
+        bufs = self._buffers.get((H, W))
+        if bufs is None:
+            n = 3 * W
+            bufs = self._buffers[H, W] = (
+                np.empty((H, n), np.float32),
+                np.empty((H, n), np.float32),
+                np.empty((H, n), np.uint8),
+            )
+        _effects(
+            image.reshape(H, 3 * W), lh, lv, sx, sy, shutter, gain, vrow, vcol, pool, offset, self._read2,
+            p.shot_noise, *bufs,
+        )  # fmt: skip
 
     def _vignetting(self, H: int, W: int) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
         """Separable vignetting map, cached per size: gain ``vrow[j] - vcol[i]`` of pixel (i, j)."""
@@ -359,6 +572,12 @@ class ImageEffects:
             terms = self._vignette[H, W] = (vrow, vcol)
         return terms
 
+    def _zeros(self, n: int) -> NDArray[np.float32]:
+        """At least ``n`` zeros (float32): the noise pool of noise-free parameters."""
+        if self._zero_pool.size < n:
+            self._zero_pool = np.zeros(n, dtype=np.float32)
+        return self._zero_pool
+
     def _noise_pool(self, n: int) -> NDArray[np.float32]:
         """The pool of standard normals for an image of ``n`` values, refreshed by ``ceil(n / POOL_REUSE)``."""
         pool = self._pool
@@ -369,8 +588,8 @@ class ImageEffects:
             return pool
         m, a = -(-n // POOL_REUSE), self._cursor
         b = min(a + m, pool.size)
-        self.rng.standard_normal(dtype=np.float32, out=pool[a:b])
+        pool[a:b] = self.rng.standard_normal(b - a, dtype=np.float32)  # faster than out=, the same numbers
         if a + m > pool.size:
-            self.rng.standard_normal(dtype=np.float32, out=pool[: a + m - pool.size])
+            pool[: a + m - pool.size] = self.rng.standard_normal(a + m - pool.size, dtype=np.float32)
         self._cursor = (a + m) % pool.size
         return pool

@@ -527,7 +527,7 @@ def _floor_samples_lin(samp, idx, fa, fb, tex, tw, th, tx0, ty0, tdx, tdy):  # p
         samp[k] = t0 + fb[k] * (t1 - t0)
 
 
-@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
 def _floor_row(out, cov, bright, samp, ca, cb, col, grass, tint, plo, phi):  # pragma: no cover - compiled
     """Floor colours of a whole row as packed pixels into ``out`` (W, uint32); clears ``cov``.
 

@@ -58,6 +58,10 @@ from teamsim.percept_parts import OBS, OC
 from teamsim.percepts import CIRCLE_SAMPLES, PerceptSynthesizer, Scene
 
 _BOX_SAMPLES = 16  # points on each end circle of a cylinder for its image box
+# observer columns as plain ints (faster numpy indexing than the IntEnum)
+_YAW, _PITCH, _YAWR, _PITCHR, _CAM, _WALK = (
+    int(c) for c in (OBS.YAW, OBS.PITCH, OBS.YAWR, OBS.PITCHR, OBS.CAM, OBS.WALK)
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,6 +143,19 @@ class ImageRenderer:
         self._ico = icosahedron()
         self._cams = np.array([_camera_columns(self.rig, c) for c in CAMERA_NAMES])
         self._annotator: PerceptSynthesizer | None = None
+        # per call only the scene changes: the kernel's other inputs, evenly lit and lit, and per camera
+        # the image size and focal lengths
+        venue = (self._walls, self._posts, self._poles, self._ico)
+        self._inputs = tuple(
+            (self._cams, geo, self._colours, self._strips, self._circles, floor, light, *venue)
+            for geo, floor, light in (
+                (self._geo, self._floor, self._no_light),
+                (self._geo_lit, self._floor_lit, self._light),
+            )
+        )
+        self._lit = params.has_illumination
+        self._shapes = [(self.rig.spec(c).height, self.rig.spec(c).width, 3) for c in CAMERA_NAMES]
+        self._focal = [(self.rig.spec(c).fx, self.rig.spec(c).fy) for c in CAMERA_NAMES]
 
     def size(self, camera: str = "upper") -> tuple[int, int]:
         """(height, width) of the images of ``camera`` (pixels)."""
@@ -164,7 +181,7 @@ class ImageRenderer:
     def camera_matrix(self, scene: Scene, robot: int) -> CameraMatrix:
         """The camera model of robot ``robot``'s image (robot frame)."""
         o = scene.observers[self._check(scene, robot)]
-        return self.rig.camera_matrix(int(o[OBS.CAM]), float(o[OBS.YAW]), float(o[OBS.PITCH]))
+        return self.rig.camera_matrix(int(o[_CAM]), float(o[_YAW]), float(o[_PITCH]))
 
     def render(
         self, scene: Scene, robot: int, out: NDArray[np.uint8] | None = None, effects: bool = True
@@ -175,41 +192,38 @@ class ImageRenderer:
         exactly, evenly lit; otherwise the hall's uneven light is rendered with it and the
         image effects are applied (drawing random numbers).
         """
-        r = self._check(scene, robot)
-        o = scene.observers[r]
-        ci = int(o[OBS.CAM])
-        h, w = int(self._cams[ci, 8]), int(self._cams[ci, 7])
-        if out is None:
-            out = np.empty((h, w, 3), dtype=np.uint8)
-        elif out.shape != (h, w, 3) or out.dtype != np.uint8 or not out.flags.c_contiguous:
-            raise ValueError(
-                f"out must be a C-contiguous uint8 array of shape {(h, w, 3)}, got {out.shape} {out.dtype}"
-            )
-        lit = effects and self.params.has_illumination
-        render_nb(
-            scene.observers, r, scene.occluders, scene.ball, self._cams, self._geo_lit if lit else self._geo,
-            self._colours, self._strips, self._circles, self._floor_lit if lit else self._floor,
-            self._light if lit else self._no_light, self._walls, self._posts, self._poles, self._ico, out,
-        )  # fmt: skip
-        if effects and self.effects.active:
-            spec = self.rig.spec(ci)
-            yaw_rate = float(o[OBS.YAWR] + scene.turn_rates[r])
-            self.effects.apply(out, spec.fx, spec.fy, yaw_rate, float(o[OBS.PITCHR]), bool(o[OBS.WALK] > 0.5))
-        return out
+        return self._render(scene, self._check(scene, robot), out, effects)
 
     def camera_image(self, scene: Scene, robot: int, time: float = 0.0, effects: bool = True) -> CameraImage:
         """Robot ``robot``'s image with its camera model, as a brain receives it."""
         r = self._check(scene, robot)
         o = scene.observers[r]
-        ci = int(o[OBS.CAM])
+        ci, yaw, pitch = int(o[_CAM]), float(o[_YAW]), float(o[_PITCH])
         return CameraImage(
             time=time,
-            pixels=self.render(scene, r, effects=effects),
-            camera=self.camera_matrix(scene, r),
+            pixels=self._render(scene, r, None, effects),
+            camera=self.rig.camera_matrix(ci, yaw, pitch),
             camera_name=CAMERA_NAMES[ci],
-            head_yaw=float(o[OBS.YAW]),
-            head_pitch=float(o[OBS.PITCH]),
+            head_yaw=yaw,
+            head_pitch=pitch,
         )
+
+    def _render(self, scene: Scene, r: int, out: NDArray[np.uint8] | None, effects: bool) -> NDArray[np.uint8]:
+        """:meth:`render` of a checked robot index."""
+        o = scene.observers[r]
+        ci = int(o[_CAM])
+        shape = self._shapes[ci]
+        if out is None:
+            out = np.empty(shape, dtype=np.uint8)
+        elif out.shape != shape or out.dtype != np.uint8 or not out.flags.c_contiguous:
+            raise ValueError(f"out must be a C-contiguous uint8 array of shape {shape}, got {out.shape} {out.dtype}")
+        effects = effects and self.effects.active
+        render_nb(scene.observers, r, scene.occluders, scene.ball, *self._inputs[effects and self._lit], out)
+        if effects:
+            fx, fy = self._focal[ci]
+            yaw_rate = float(o[_YAWR] + scene.turn_rates[r])
+            self.effects.apply(out, fx, fy, yaw_rate, float(o[_PITCHR]), bool(o[_WALK] > 0.5))
+        return out
 
     def annotate(self, scene: Scene) -> list[ImageAnnotations | None]:
         """Ground truth of every robot's image (``None`` for robots whose camera sees nothing)."""
