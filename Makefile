@@ -17,9 +17,11 @@ bench:
 	python -m benchmarks.bench_physics --json out/bench_physics.json
 	python -m benchmarks.bench_percepts --json out/bench_percepts.json
 	python -m benchmarks.bench_images --json out/bench_images.json
+	python -m benchmarks.bench_vision --json out/bench_vision.json
 	python -m benchmarks.bench_localization --json out/bench_localization.json
 	python -m benchmarks.bench_worldmodel --json out/bench_worldmodel.json
 	python -m benchmarks.bench_envs --json out/bench_envs.json
+	python -m benchmarks.bench_match --stages --json out/bench_match.json
 	python -m benchmarks.soak --json out/soak.json
 
 # the reports in docs/studies (README tables come from them); resumable: run again after a stop
