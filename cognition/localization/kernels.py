@@ -351,8 +351,13 @@ def normalise_nb(logw, n, w):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True)
-def resample_nb(parts, n, w, out, m, low_variance, jit_xy, jit_th, state):  # pragma: no cover - compiled
-    """Draw ``m`` particles from particles [0, n) with normalised weights ``w`` into ``out``.
+def resample_nb(
+    parts, n, w, logw, out, m, low_variance, jit_xy, jit_th, m_inj, slots, state
+):  # pragma: no cover - compiled
+    """Draw ``m`` particles from particles [0, n) with normalised weights ``w`` into ``out``,
+    then make the weights of [0, m) uniform (``logw`` 0, ``w`` 1 / m) and, with ``m_inj`` > 0,
+    choose the slots of the poses to inject: ``slots[:m_inj]`` (as :func:`choose_nb` over m;
+    ``slots`` holds at least m entries and is work space beyond ``m_inj``).
 
     Multinomial: ``m`` independent uniforms, generated already sorted (normalised cumulative
     sums of exponentials), merged with the cumulative weights in one pass (the same
@@ -385,6 +390,11 @@ def resample_nb(parts, n, w, out, m, low_variance, jit_xy, jit_th, state):  # pr
         out[k, 0] = parts[j, 0] + jit_xy * rand_n(state)
         out[k, 1] = parts[j, 1] + jit_xy * rand_n(state)
         out[k, 2] = wrap(parts[j, 2] + jit_th * rand_n(state))
+    for k in range(m):
+        logw[k] = 0.0
+        w[k] = 1.0 / m
+    if m_inj > 0:
+        _choose_into(slots, m, m_inj, state)
 
 
 @nb.njit(cache=True)
@@ -455,14 +465,46 @@ def gaussian_set_nb(out, start, m, centres, sig_xy, sig_th, state):  # pragma: n
 
 
 @nb.njit(cache=True)
-def choose_nb(n, m, state):  # pragma: no cover - compiled
-    """``m`` distinct indices drawn uniformly from 0..n-1 (0 <= m <= n), in random order: the
-    first ``m`` steps of a Fisher-Yates shuffle, with the filter's own ``state``."""
-    idx = np.arange(n)
+def _choose_into(idx, n, m, state):  # pragma: no cover - compiled
+    """``idx[:m]``: ``m`` distinct indices drawn uniformly from 0..n-1 (0 <= m <= n), in random
+    order: the first ``m`` steps of a Fisher-Yates shuffle of ``idx[:n]``, set to 0..n-1 first,
+    with the filter's own ``state``."""
+    for i in range(n):
+        idx[i] = i
     for i in range(m):
         j = i + rand_index(state, n - i)
         idx[i], idx[j] = idx[j], idx[i]
+
+
+@nb.njit(cache=True)
+def choose_nb(n, m, state):  # pragma: no cover - compiled
+    """:func:`_choose_into` into a new array; returns the ``m`` indices."""
+    idx = np.empty(n, dtype=np.int64)
+    _choose_into(idx, n, m, state)
     return idx[:m].copy()
+
+
+@nb.njit(cache=True)
+def inject_matured_nb(parts, slots, cand, count, nc, threshold, state):  # pragma: no cover - compiled
+    """Replace the particles at ``slots`` by poses around the matured candidates (the first
+    ``nc`` rows of ``cand`` whose ``count`` reaches ``threshold``, taken in turn; Gaussian noise
+    of 0.05 m and 0.05 rad, as :func:`gaussian_set_nb`). Returns how many were replaced: all
+    of ``slots``, or 0 when no candidate has matured."""
+    ready = np.empty((nc, 3))
+    k = 0
+    for i in range(nc):
+        if count[i] >= threshold:
+            ready[k, 0], ready[k, 1], ready[k, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
+            k += 1
+    if k == 0:
+        return 0
+    for i in range(slots.shape[0]):
+        c = ready[i % k]
+        j = slots[i]
+        parts[j, 0] = c[0] + 0.05 * rand_n(state)
+        parts[j, 1] = c[1] + 0.05 * rand_n(state)
+        parts[j, 2] = wrap(c[2] + 0.05 * rand_n(state))
+    return slots.shape[0]
 
 
 @nb.njit(cache=True)
@@ -486,7 +528,9 @@ def uniform_set_nb(out, start, m, hl, hw, own_half, state):  # pragma: no cover 
 def frame_nb(
     parts,
     n,
-    odo,
+    dx,
+    dy,
+    dth,
     motion,
     state,
     obs,
@@ -508,14 +552,16 @@ def frame_nb(
     pose_out,
     obs_ev,
 ):  # pragma: no cover - compiled
-    """One frame up to the pose, in one call: :func:`predict_nb` with ``odo`` (dx, dy,
-    dtheta), the observation update (``obs`` may have no rows), :func:`normalise_nb` and
-    :func:`pose_nb` with ``pose_par`` (cluster radius, near xy, near theta, jump weight).
-    Updates ``prev`` to the new pose; ``obs_ev`` receives each observation's mean likelihood
-    without the floors under the prior weights (see :func:`log_likelihood_nb`). Returns the
-    log evidence of the observations (mean likelihood over the prior weights) with and
-    without the likelihood floors."""
-    predict_nb(parts, n, odo[0], odo[1], odo[2], motion, state)
+    """One frame up to the pose, in one call: :func:`predict_nb` with the odometry (dx, dy m,
+    dth rad), the observation update (``obs`` may have no rows), :func:`normalise_nb` and
+    :func:`pose_nb` with ``pose_par`` (cluster radius, near xy, near theta, jump weight,
+    unexplained level). Updates ``prev`` to the new pose; ``obs_ev`` receives each
+    observation's mean likelihood without the floors under the prior weights (see
+    :func:`log_likelihood_nb`). Returns the log evidence of the observations (mean likelihood
+    over the prior weights) with and without the likelihood floors, the pose's x, y, theta and
+    spread (``pose_out[:4]``) and how many observations are unexplained (``obs_ev`` below the
+    unexplained level)."""
+    predict_nb(parts, n, dx, dy, dth, motion, state)
     if obs.shape[0] > 0:
         log_likelihood_nb(
             parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch, w,
@@ -535,4 +581,8 @@ def frame_nb(
     evidence = normalise_nb(logw, n, w)
     pose_nb(parts, n, w, prev, pose_par[0], pose_par[1], pose_par[2], pose_par[3], pose_out)
     prev[0], prev[1], prev[2], prev[3] = pose_out[0], pose_out[1], pose_out[2], 1.0
-    return evidence, raw_evidence
+    unexplained = 0
+    for k in range(obs.shape[0]):
+        if obs_ev[k] < pose_par[4]:
+            unexplained += 1
+    return evidence, raw_evidence, pose_out[0], pose_out[1], pose_out[2], pose_out[3], unexplained

@@ -9,7 +9,7 @@ whose per-observation likelihood exp(ll / K) reaches ``maturing_consistency`` co
 more consistent frame, any other is dropped. The free places are refilled from vision in
 batches (when at least a quarter of them is free). Candidates with at least
 ``maturing_threshold`` consistent frames may replace particles at the next resampling
-(:meth:`ParticleFilter._matured`).
+(:func:`kernels.inject_matured_nb`).
 
 Everything per frame is one compiled call (:func:`mature_nb`, or :func:`move_candidates_nb`
 on a frame without observations): the candidates live in a fixed buffer (C x 3 poses,

@@ -165,8 +165,9 @@ class ParticleFilter(Localizer):
         self._ll = np.zeros(max(cap, p.maturing_candidates))
         self._scratch = np.zeros((10, max(cap, p.maturing_candidates)))
         self._pose_out = np.zeros(14)
-        self._pose_par = np.array([p.cluster_radius, 0.5, 0.5, p.jump_weight])
-        self._odo = np.zeros(3)
+        self._cov = self._pose_out[5:14].reshape(3, 3)
+        """The pose's covariance (a view of ``_pose_out``, written by :func:`kernels.frame_nb`)."""
+        self._pose_par = np.array([p.cluster_radius, 0.5, 0.5, p.jump_weight, math.exp(p.relocalize_log_likelihood)])
         self._prev = np.zeros(4)
         self._motion = np.array([p.sigma_mx, p.sigma_mtheta, p.sigma_mytheta, p.motion_floor_xy, p.motion_floor_theta])
         self._hough = np.array(
@@ -179,6 +180,11 @@ class ParticleFilter(Localizer):
             ]
         )
         self._table = sensor_table(p)
+        m = self.model
+        self._maps = (m.posts, m.crossings, m.lines, m.marks, m.poles, m.cross_grid, m.line_grid, m.geo)
+        """The map arrays of :attr:`model`, in the order the kernels take them."""
+        self._slots = np.zeros(cap, dtype=np.int64)
+        """Slots of the poses injected at a resampling (:func:`kernels.resample_nb`)."""
         self.n = p.floor_particles if variant == "reset" else cap
         self.w_slow = 0.0
         self.w_fast = 0.0
@@ -194,7 +200,6 @@ class ParticleFilter(Localizer):
         """(time, unexplained observations, observations) of the observed frames in the safety net's window."""
         self._unexplained = 0
         self._observed = 0
-        self._unexplained_level = math.exp(p.relocalize_log_likelihood)
         self._relocalize = False
         self.relocalizations = 0
         """Times the safety net injected random poses (module docstring)."""
@@ -291,34 +296,28 @@ class ParticleFilter(Localizer):
         p = self.params
         n = self.n
         o = frame.odometry
-        game = frame.game
-        self._own_half = game.state in _OWN_HALF_STATES
-        self._odo[0], self._odo[1], self._odo[2] = o.dx, o.dy, o.dtheta
+        self._own_half = frame.game.state in _OWN_HALF_STATES
         blind = frame.picked_up or self._penalty  # the base class tracked this frame's penalty
         obs = NO_OBSERVATIONS if blind else pack_observations(frame.percepts, self._table)
         k = obs.shape[0]
-        m = self.model
         explained = np.empty(k)
-        evidence, raw_evidence = K.frame_nb(
-            self.parts, n, self._odo, self._motion, self._state, obs, self._hough, m.posts, m.crossings, m.lines,
-            m.marks, m.poles, m.cross_grid, m.line_grid, m.geo, self._ll, self._scratch, self.logw, self.w,
-            self._prev, self._pose_par, self._pose_out, explained,
+        evidence, raw_evidence, x, y, th, spread, unexplained = K.frame_nb(
+            self.parts, n, o.dx, o.dy, o.dtheta, self._motion, self._state, obs, self._hough, *self._maps, self._ll,
+            self._scratch, self.logw, self.w, self._prev, self._pose_par, self._pose_out, explained,
         )  # fmt: skip
         if self.name == "maturing":
             if k:
                 self._mature(obs, o.dx, o.dy, o.dtheta)
             else:
                 self._move_candidates(o.dx, o.dy, o.dtheta)
-        out = self._pose_out
-        lost = bool(out[3] > p.lost_spread)
+        lost = spread > p.lost_spread
         pose = RobotPose(
-            float(out[0]), float(out[1]), float(out[2]), out[5:14].reshape(3, 3).copy(), lost,
-            n, self.parts[:n].copy(), self.w[:n].copy(), self.name,
+            x, y, th, self._cov.copy(), lost, n, self.parts[:n].copy(), self.w[:n].copy(), self.name
         )  # fmt: skip
         self.injected = 0
         self.observation_evidence = explained
         if k:
-            self._watch(frame.time, int(np.count_nonzero(explained < self._unexplained_level)), k)
+            self._watch(frame.time, unexplained, k)
         if k and frame.time - self._last_resample >= p.resample_interval:
             self._last_resample = frame.time
             self._resample(obs, math.exp(evidence / k), math.exp(raw_evidence / k), lost)
@@ -345,6 +344,12 @@ class ParticleFilter(Localizer):
         return min(p.injection_max, max(0.0, 1.0 - self.w_fast / self.w_slow))
 
     def _resample(self, obs: NDArray[np.float64], w_avg: float, w_raw: float, lost: bool) -> None:
+        """Resample by the variant (module docstring) and inject its fresh poses, if any.
+
+        The number of injections is drawn from the numpy Generator before the compiled
+        resampling runs: the two random streams are independent, so the order between them
+        does not matter, and one compiled call resamples, resets the weights and chooses the
+        slots."""
         p = self.params
         v = self.name
         n_old = self.n
@@ -358,28 +363,31 @@ class ParticleFilter(Localizer):
             if v in ("reset", "maturing") and lost:
                 share = max(share, p.reset_probability)
         low_var = v in ("lowvar", "maturing")
+        m_inj = int(self.rng.binomial(n_new, share)) if share > 0.0 else 0
         K.resample_nb(
-            self.parts, n_old, self.w, self._spare, n_new, low_var, p.resample_jitter_xy, p.resample_jitter_theta,
-            self._state,
+            self.parts, n_old, self.w, self.logw, self._spare, n_new, low_var, p.resample_jitter_xy,
+            p.resample_jitter_theta, m_inj, self._slots, self._state,
         )  # fmt: skip
         self.parts, self._spare = self._spare, self.parts
         self.n = n_new
-        self.logw[:n_new] = 0.0
-        self.w[:n_new] = 1.0 / n_new
-        m_inj = int(self.rng.binomial(n_new, share)) if share > 0.0 else 0
         if m_inj == 0:
             return
-        slots = K.choose_nb(n_new, m_inj, self._state)
-        if v == "amcl":
-            fresh = self._uniform_poses(m_inj)
-        elif v == "reset":
-            fresh = from_vision(self.model, obs, m_inj, p.reset_from_any_feature, self._state)
+        slots = self._slots[:m_inj]
+        if v == "maturing":
+            got = K.inject_matured_nb(
+                self.parts, slots, self._cand, self._cand_count, self._nc, p.maturing_threshold, self._state
+            )
         else:
-            fresh = self._matured(m_inj)
-        if fresh.shape[0] == 0:
+            fresh = (
+                self._uniform_poses(m_inj)
+                if v == "amcl"
+                else from_vision(self.model, obs, m_inj, p.reset_from_any_feature, self._state)
+            )
+            got = fresh.shape[0]
+            self.parts[slots[:got]] = fresh
+        if got == 0:
             return
-        self.parts[slots[: fresh.shape[0]]] = fresh
-        self.injected = int(fresh.shape[0])
+        self.injected = got
         self.w_slow = self.w_fast = 0.0
 
     @staticmethod
@@ -405,21 +413,10 @@ class ParticleFilter(Localizer):
 
     def _mature(self, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
         """Score the candidates against this frame; drop the inconsistent; refill from vision."""
-        m = self.model
         self._nc = mature_nb(
             self._cand, self._cand_count, self._nc, obs, dx, dy, dth, self.params.maturing_consistency, self._hough,
-            m.posts, m.crossings, m.lines, m.marks, m.poles, m.cross_grid, m.line_grid, m.geo, self._ll, self._scratch,
-            self._state,
+            *self._maps, self._ll, self._scratch, self._state,
         )  # fmt: skip
-
-    def _matured(self, m: int) -> NDArray[np.float64]:
-        nc = self._nc
-        ready = self._cand[:nc][self._cand_count[:nc] >= self.params.maturing_threshold]
-        if ready.shape[0] == 0:
-            return np.zeros((0, 3))
-        out = np.empty((m, 3))
-        K.gaussian_set_nb(out, 0, m, np.ascontiguousarray(ready), 0.05, 0.05, self._state)
-        return out
 
     @property
     def candidates(self) -> NDArray[np.float64]:

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.params import Ranges, check_number, check_ranges, positive
-from cognition.percepts import Percepts
+from cognition.percepts import Kind, Percepts
 
 
 @dataclass(frozen=True)
@@ -110,12 +110,15 @@ class GoalModel:
 
     def move_robot(self, dx: float, dy: float, dtheta: float, dt: float) -> None:
         """Carry the tracks into the new robot frame and age them."""
+        if not self._tracks:
+            return
         c, s = math.cos(dtheta), math.sin(dtheta)
+        decay = self.params.decay_per_second * dt
         keep = []
         for t in self._tracks:
             x, y = t[0] - dx, t[1] - dy
             t[0], t[1] = c * x + s * y, -s * x + c * y
-            t[2] -= self.params.decay_per_second * dt
+            t[2] -= decay
             if t[2] > 0.0:
                 keep.append(t)
         self._tracks = keep
@@ -134,15 +137,23 @@ class GoalModel:
 
     def add_percepts(self, percepts: Percepts | None) -> None:
         """All post detections of one image."""
-        if percepts is not None:
-            for x, y in percepts.posts.xy:
-                self.add(float(x), float(y))
+        if percepts is not None and percepts.count(Kind.POST):
+            for x, y in percepts.posts.xy.tolist():
+                self.add(x, y)
 
     def estimate(self) -> GoalEstimate | None:
         """The goal from the two most confident post tracks, or ``None`` with fewer than two."""
-        if len(self._tracks) < 2:
+        tracks = self._tracks
+        if len(tracks) < 2:
             return None
-        a, b = sorted(self._tracks, key=lambda t: -t[2])[:2]
+        a: list[float] | None = None  # the two most confident; of equals the first in track order
+        b: list[float] | None = None
+        for t in tracks:
+            if a is None or t[2] > a[2]:
+                a, b = t, a
+            elif b is None or t[2] > b[2]:
+                b = t
+        assert a is not None and b is not None
         ba, bb = math.atan2(a[1], a[0]), math.atan2(b[1], b[0])
         left, right = (a, b) if math.remainder(ba - bb, 2 * math.pi) > 0 else (b, a)
         bl, br = math.atan2(left[1], left[0]), math.atan2(right[1], right[0])

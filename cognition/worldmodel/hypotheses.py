@@ -43,9 +43,16 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from cognition.params import PROBABILITY, Ranges, check_ranges, non_negative, positive
-from cognition.percepts import Percepts
+from cognition.percepts import Col, Kind, Percepts
 from cognition.representations import BallLevel, RobotPose, SensorFrame
 from cognition.worldmodel.messages import TeamMessage
+
+_X, _Y = int(Col.X), int(Col.Y)
+
+
+def _heading(pose: RobotPose | None) -> tuple[float, float]:
+    """cos and sin of the pose's heading ((1, 0) without a pose)."""
+    return (1.0, 0.0) if pose is None else (math.cos(pose.theta), math.sin(pose.theta))
 
 
 @dataclass(frozen=True)
@@ -127,15 +134,18 @@ class BallHypotheses:
         dt = 0.0 if self.time is None else max(0.0, frame.time - self.time)
         self.time = frame.time
         o = frame.odometry
-        seen = frame.percepts is not None and frame.percepts.count(5) > 0
+        percepts = frame.percepts
+        seen = percepts is not None and percepts.count(Kind.BALL) > 0
+        team_decay = p.team_decay_per_second * dt
         for h in self.hypotheses:
             if h.source == "team":
-                h.confidence -= p.team_decay_per_second * dt
+                h.confidence -= team_decay
         if seen:  # the visible ball overrides: it is the one own hypothesis, and the answer
-            assert frame.percepts is not None
-            bx, by = frame.percepts.ball.xy[0]
+            assert percepts is not None
+            rows, offsets = percepts.table_and_offsets
+            bx, by = rows[offsets[Kind.BALL], _X : _Y + 1].tolist()
             self.hypotheses = [h for h in self.hypotheses if h.source == "team"]
-            self.hypotheses.append(Hypothesis(float(bx), float(by), 1.0, "own"))
+            self.hypotheses.append(Hypothesis(bx, by, 1.0, "own"))
         else:
             c, s = math.cos(o.dtheta), math.sin(o.dtheta)
             walk = math.hypot(o.dx, o.dy) * p.walk_decay_per_metre + abs(o.dtheta) * p.turn_decay_per_radian
@@ -144,32 +154,38 @@ class BallHypotheses:
                     x, y = h.x - o.dx, h.y - o.dy
                     h.x, h.y = c * x + s * y, -s * x + c * y
                     h.confidence -= p.decay_per_second * dt + walk
-            self._negative(frame.percepts, pose, dt)
-        self._teammates(team, pose)
+            self._negative(percepts, pose, dt)
+        if team:
+            self._teammates(team, pose)
         self.hypotheses = [h for h in self.hypotheses if h.confidence > 0.0]
         return self._belief(pose, seen)
 
     # -- pieces ----------------------------------------------------------------------------
-    def _relative(self, h: Hypothesis, pose: RobotPose | None) -> tuple[float, float] | None:
+    @staticmethod
+    def _relative(h: Hypothesis, pose: RobotPose | None, cs: tuple[float, float]) -> tuple[float, float] | None:
+        """``h`` in the robot frame (m); ``cs``: cos and sin of the pose's heading (unused for own
+        hypotheses); ``None`` for a team hypothesis without a pose."""
         if h.source == "own":
             return h.x, h.y
         if pose is None:
             return None
-        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        c, s = cs
         dx, dy = h.x - pose.x, h.y - pose.y
         return c * dx + s * dy, -s * dx + c * dy
 
     def _negative(self, percepts: Percepts | None, pose: RobotPose | None, dt: float) -> None:
         """Hypotheses in view but not seen lose confidence fast."""
         cam = percepts.camera if percepts is not None else None
-        if cam is None:
+        if cam is None or not self.hypotheses:
             return
+        cs = _heading(pose)
+        view, loss = self.params.view_distance, self.params.negative_per_second * dt
         for h in self.hypotheses:
-            rel = self._relative(h, pose)
-            if rel is None or math.hypot(*rel) > self.params.view_distance:
+            rel = self._relative(h, pose, cs)
+            if rel is None or math.hypot(*rel) > view:
                 continue
             if cam.sees(rel[0], rel[1], 0.05):
-                h.confidence -= self.params.negative_per_second * dt
+                h.confidence -= loss
 
     def _teammates(self, team: Sequence[TeamMessage], pose: RobotPose | None) -> None:
         p = self.params
@@ -177,20 +193,26 @@ class BallHypotheses:
             if not m.ball_valid or m.penalized or m.ball_age > p.max_team_age:
                 continue
             conf = max(0.0, min(1.0, m.ball_confidence)) - p.team_decay_per_second * m.ball_age
-            self.hypotheses = [h for h in self.hypotheses if not (h.source == "team" and h.sender == m.player)]
-            self.hypotheses.append(Hypothesis(m.ball_x, m.ball_y, conf, "team", m.player))
+            hyps = self.hypotheses
+            for i, h in enumerate(hyps):  # at most one hypothesis per teammate
+                if h.source == "team" and h.sender == m.player:
+                    del hyps[i]
+                    break
+            hyps.append(Hypothesis(m.ball_x, m.ball_y, conf, "team", m.player))
 
     def _belief(self, pose: RobotPose | None, seen: bool) -> BallBelief:
+        """The most confident hypothesis that can be placed in the robot frame (the first of
+        equals in list order), an own one when the ball is seen."""
         p = self.params
-        ranked = sorted(
-            (h for h in self.hypotheses if self._relative(h, pose) is not None), key=lambda h: -h.confidence
-        )
-        if seen:
-            ranked = [h for h in ranked if h.source == "own"]
-        if not ranked:
+        best = None
+        for h in self.hypotheses:
+            if (h.source == "own" or (pose is not None and not seen)) and (
+                best is None or h.confidence > best.confidence
+            ):
+                best = h
+        if best is None:
             return BallBelief(0.0, 0.0, 0.0, "invalid", "none", None)
-        best = ranked[0]
-        rel = self._relative(best, pose)
+        rel = self._relative(best, pose, _heading(pose))
         assert rel is not None
         level: BallLevel = (
             "valid"
