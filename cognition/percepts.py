@@ -390,6 +390,26 @@ class Percepts:
         """No percepts (camera not usable: fallen, picked up, off the field)."""
         return cls(time, _EMPTY, _NO_OFFSETS, None, None)
 
+    @classmethod
+    def of_checked_rows(
+        cls,
+        time: float,
+        rows: NDArray[np.float64],
+        offsets: NDArray[np.int64],
+        camera_row: NDArray[np.float64],
+        spec: CameraSpec,
+    ) -> Percepts:
+        """The constructor for a producer that guarantees what its checks verify of ``rows``,
+        ``offsets`` and ``camera_row`` (vision's compiled pipeline runs them, ``_first_invalid_nb``
+        included); a ``time`` that is not a finite float or a ``spec`` that is not a CameraSpec
+        goes through the full checks."""
+        if type(time) is not float or not math.isfinite(time) or type(spec) is not CameraSpec:
+            return cls(time, rows, offsets, camera_row, spec)
+        self = cls.__new__(cls)
+        self.time, self._rows, self._offsets, self._camera_row, self._spec = time, rows, offsets, camera_row, spec
+        self._camera = None
+        return self
+
     @property
     def camera(self) -> CameraMatrix | None:
         """The camera matrix of the image (``None`` when no image was taken)."""

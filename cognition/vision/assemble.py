@@ -1,14 +1,13 @@
-"""The geometric stages after lines and posts, and the percept table, in one compiled call.
+"""The geometric stages after lines and posts, and the percept table, in one compiled function.
 
 Once the lines (either method), the goal posts, the ball and the robots are found, the rest
-of :meth:`cognition.vision.Vision.detect` is geometry on small arrays: the net behind a seen
+of a frame (:mod:`.frame`) is geometry on small arrays: the net behind a seen
 goal line is cut away (:mod:`.goals`), crossings are built from the segments (DNT 3.7) and
 filtered (distance, post bases, posts and nets standing on them, the centre circle's X
 crossings), penalty marks are found among the loose line points, every percept gets its row
 with the Darmstadt covariance (:mod:`.rows`), and the rows are stacked in the order of
-:class:`cognition.percepts.Kind`. Each of these steps is its own compiled function; calling
-them one by one from Python cost more in dispatch than they cost to run, so this module
-chains them in one call. Units and frames as in the modules it calls (robot frame, metres,
+:class:`cognition.percepts.Kind`. Each of these steps is its own compiled function, and this
+module chains them. Units and frames as in the modules it calls (robot frame, metres,
 pixels of this image).
 """
 

@@ -193,23 +193,6 @@ def detect_ball(
         raise TypeError(f"params must be BallParams, got {type(params).__name__}")
     if isinstance(ball_radius, bool) or not isinstance(ball_radius, float | int) or not 0.0 < ball_radius <= 1.0:
         raise ValueError(f"ball_radius must be a number in (0, 1] m, got {ball_radius!r}")
-    return ball_rows(rgb, classes, boundary, cam, ball_radius, modern, params, sigma_alpha, sigma_beta)
-
-
-def ball_rows(
-    rgb: NDArray[np.uint8],
-    classes: NDArray[np.uint8],
-    boundary: NDArray[np.int32],
-    cam: NDArray[np.float64],
-    ball_radius: float,
-    modern: bool,
-    params: BallParams,
-    sigma_alpha: float,
-    sigma_beta: float,
-) -> NDArray[np.float64]:
-    """:func:`detect_ball` without its input checks, for callers whose inputs are valid by
-    construction (:meth:`cognition.vision.Vision.detect`: its own class image and boundary, a
-    checked camera row); the camera row's values are still checked in the compiled call."""
     rows, code = _detect_ball_nb(
         rgb, classes, boundary, cam, float(ball_radius), bool(modern), _vector(params, classes.shape[1]),
         float(sigma_alpha), float(sigma_beta),

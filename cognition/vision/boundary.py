@@ -36,23 +36,46 @@ def field_boundary(
     return out
 
 
+_GROUP = 64
+"""Columns scanned together, row by row (one cache line of the class image per row)."""
+
+
 @nb.njit(cache=True)
 def _boundary(
     classes: NDArray[np.uint8], cam: NDArray[np.float64], run: int, out: NDArray[np.int32]
 ) -> None:  # pragma: no cover - compiled
+    """The scan of the module docstring for every column of ``classes`` into ``out``.
+
+    Each column's scan is the same as reading it from its start row down, but the columns go
+    in groups of :data:`_GROUP`, read row by row (contiguous pixels) with branch-free updates
+    of every column's green run that the compiler vectorizes, until every column of the group
+    has found its run: about twice as fast as reading column by column."""
     height, width = classes.shape
+    start = np.empty(width, dtype=np.int32)
+    n = np.zeros(width, dtype=np.int32)
+    h32, r32, none = np.int32(height), np.int32(run), np.int32(0)
     for i in range(width):
-        out[i] = height
-        n = 0
+        out[i] = h32
         hz = horizon_row_nb(cam, i + 0.5) if math.isfinite(cam[0]) else 0.0
-        start = int(min(max(math.floor(hz) - 2.0, 0.0), float(height))) if math.isfinite(hz) else 0
-        for j in range(start, height):
-            if classes[j, i] == 1:
-                n += 1
-                if n >= run:
-                    out[i] = j - run + 1
-                    break
-            else:
-                n = 0
-        if out[i] == height and n >= 2:
-            out[i] = height - n  # a shorter run touching the bottom edge still is carpet
+        start[i] = int(min(max(math.floor(hz) - 2.0, 0.0), float(height))) if math.isfinite(hz) else 0
+    for g0 in range(0, width, _GROUP):
+        g1 = min(width, g0 + _GROUP)
+        first = height
+        for i in range(g0, g1):
+            first = min(first, start[i])
+        st, cnt, found = start[g0:g1], n[g0:g1], out[g0:g1]
+        for j in range(first, height):
+            row = classes[j, g0:g1]
+            j32 = np.int32(j)
+            searching = 0
+            for k in range(g1 - g0):
+                active = (j32 >= st[k]) & (found[k] == h32)  # scanned and not found yet
+                c = (cnt[k] + np.int32(1)) if row[k] == 1 else none
+                cnt[k] = c if active else cnt[k]
+                found[k] = j32 - r32 + np.int32(1) if active & (c >= r32) else found[k]
+                searching += np.int32((found[k] == h32) & (st[k] < h32))
+            if searching == 0:
+                break
+    for i in range(width):
+        if out[i] == height and n[i] >= 2:
+            out[i] = height - n[i]  # a shorter run touching the bottom edge still is carpet

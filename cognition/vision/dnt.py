@@ -1,4 +1,4 @@
-"""The DNT line method in one compiled call: scanline points, centre circle, chained segments.
+"""The DNT line method in one compiled function: scanline points, centre circle, chained segments.
 
 DNT section 3.6.2: line points are the centres of white runs between green on vertical and
 horizontal scanlines (:mod:`.scanlines`); they are projected to the ground (robot frame, m)
@@ -9,7 +9,7 @@ segments in the image and merged (:mod:`.segments`, DNT Algorithm 1); chains tha
 (its arcs when the circle was not found) are dropped, and the segments are finally
 extended along the white, projected to the ground and given real or open ends
 (:mod:`.ends`). The stages are compiled functions; this module strings them together in one
-compiled call so that a frame pays Python's call overhead once.
+compiled function (run by :mod:`.frame`).
 """
 
 from __future__ import annotations

@@ -264,37 +264,20 @@ def detect_posts(
     if cam[16] != width or cam[17] != height:
         raise VisionError(f"the camera is for {cam[16]:g} x {cam[17]:g} pixels but classes is {width} x {height}")
     g0, g1 = _goal_pair(goal_classes)
-    return post_rows(
+    return _posts_nb(
         classes if classes.flags.c_contiguous else np.ascontiguousarray(classes),
         boundary if boundary.dtype == np.int32 else boundary.astype(np.int32),
         cam if cam.dtype == np.float64 else cam.astype(np.float64),
-        (g0, g1),
+        g0,
+        g1,
         _number("post_diameter", post_diameter, True),
         _number("goal_height", goal_height, True),
-        params,
+        params.packed,
+        width / 320.0,
         _number("sigma_alpha", sigma_alpha, False),
         _number("sigma_beta", sigma_beta, False),
+        _NO_DEBUG,
     )
-
-
-def post_rows(
-    classes: NDArray[np.uint8],
-    boundary: NDArray[np.int32],
-    cam: NDArray[np.float64],
-    goal_classes: tuple[int, int],
-    post_diameter: float,
-    goal_height: float,
-    params: PostParams,
-    sigma_alpha: float,
-    sigma_beta: float,
-) -> NDArray[np.float64]:
-    """:func:`detect_posts` without its input checks, for callers whose inputs are valid by
-    construction (:meth:`cognition.vision.Vision.detect`: its own C-contiguous class image,
-    int32 boundary, a checked float64 camera row, int goal classes, positive sizes)."""
-    return _posts_nb(
-        classes, boundary, cam, goal_classes[0], goal_classes[1], post_diameter, goal_height, params.packed,
-        classes.shape[1] / 320.0, sigma_alpha, sigma_beta, _NO_DEBUG,
-    )  # fmt: skip
 
 
 def _goal_pair(goal_classes: object) -> tuple[int, int]:

@@ -165,23 +165,6 @@ def detect_robots(
         raise ValueError(f"team must be 0 or 1 (the jersey index of the own team), got {team!r}")
     if isinstance(robot_radius, bool) or not isinstance(robot_radius, float | int) or not 0.0 < robot_radius <= 2.0:
         raise ValueError(f"robot_radius must be a number in (0, 2] m, got {robot_radius!r}")
-    return robot_rows(classes, boundary, cam, jersey_classes, team, robot_radius, params, sigma_alpha, sigma_beta)
-
-
-def robot_rows(
-    classes: NDArray[np.uint8],
-    boundary: NDArray[np.int32],
-    cam: NDArray[np.float64],
-    jersey_classes: tuple[int, int],
-    team: int,
-    robot_radius: float,
-    params: ObstacleParams,
-    sigma_alpha: float,
-    sigma_beta: float,
-) -> NDArray[np.float64]:
-    """:func:`detect_robots` without its input checks, for callers whose inputs are valid by
-    construction (:meth:`cognition.vision.Vision.detect`); the camera row's values are still
-    checked in the compiled call."""
     rows, code = _detect_robots_nb(
         classes, boundary, cam, int(jersey_classes[0]), int(jersey_classes[1]), int(team), float(robot_radius),
         _vector(params, classes.shape[1]), float(sigma_alpha), float(sigma_beta),

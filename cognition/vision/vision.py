@@ -27,13 +27,16 @@ robot-frame positions (m), pixels, covariances from the Darmstadt noise model wi
 defaults, and ``truth`` -1 (vision does not know which landmark it saw). Everything after
 the percepts (localization, world model, behaviors) runs unchanged on either source.
 
+:meth:`Vision.detect` checks the input and calibrates the colours in Python; all stages
+after that run in one compiled call (:mod:`.frame`).
+
 ``Vision`` keeps state only for the colour calibration (a cache of lookup tables and the
-latest carpet colour); one instance per camera stream.
+latest carpet colour) and, per image size, the parameters of the compiled frame; one
+instance per camera stream.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,19 +45,11 @@ from numpy.typing import NDArray
 from cognition.camera import CameraMatrix
 from cognition.field import FIELD_PRESETS, ColourScheme, Field, make_colour_scheme
 from cognition.percepts import Percepts
-from cognition.vision import assemble as asm
-from cognition.vision.ball import ball_rows
-from cognition.vision.boundary import field_boundary
 from cognition.vision.colour import ColourClassifier
-from cognition.vision.dnt import dnt_lines_nb
-from cognition.vision.hough import hough_lines
+from cognition.vision.frame import BAD_CAMERA, frame_config, frame_nb
 from cognition.vision.image import VisionError, as_rgb, check_camera
-from cognition.vision.marks import loose_points_nb
 from cognition.vision.params import VisionParams
-from cognition.vision.posts import post_rows
 from cognition.vision.projection import sigmas
-from cognition.vision.robots import robot_rows
-from cognition.vision.scanlines import line_points_nb
 
 
 @dataclass(frozen=True, eq=False)
@@ -100,7 +95,6 @@ class Vision:
         self.classifier = ColourClassifier(self.params.colours)
         self.debug: VisionDebug | None = None
         """Intermediate results of the latest image."""
-        p = self.params
         self._goal_classes = (
             self.classifier.class_of(self.scheme.own_goal),
             self.classifier.class_of(self.scheme.opponent_goal),
@@ -110,15 +104,10 @@ class Vision:
         """Colour classes of the two teams' jerseys."""
         self._net_class = self.classifier.class_of(self.scheme.line_white)
         """Colour class of the goal nets (white, as the lines)."""
-        self._sizes: dict[int, tuple[int, int, NDArray[np.float64], int, float, NDArray[np.float64]]] = {}
-        """Per image width: the parameters scaled to it (:meth:`_size_params`)."""
         self._modern_ball = self.scheme.ball_primary != self.scheme.ball_secondary
         """The ball has patches (the white-and-black SPL ball) rather than one colour."""
-        self._circle = np.array(
-            [p.circle_cell, p.circle_directions, p.circle_inlier, p.circle_min_points, p.circle_min_span,
-             p.circle_min_coverage, p.circle_vote_every],
-            dtype=np.float64,
-        )  # fmt: skip
+        self._configs: dict[tuple[int, int], NDArray[np.float64]] = {}
+        """Per image size (width, height): the configuration of the compiled frame (:func:`frame_config`)."""
 
     def detect(
         self,
@@ -143,70 +132,31 @@ class Vision:
         rgb = as_rgb(image, camera)
         p = self.params
         height, width = rgb.shape[:2]
-        size = self._sizes.get(width)
-        if size is None:
-            size = self._sizes[width] = self._size_params(width)
-        step, gap, chain, probe, run, prm = size
-        classes = self.classifier.classify(rgb, cam)
-        boundary = field_boundary(classes, cam, max(1, round(run * height / 240.0)))
-        dims = self.field.dims
-        radius = prm[asm.A_CIRCLE_RADIUS]
+        cfg = self._configs.get((width, height))
+        if cfg is None:
+            cfg = self._configs[width, height] = self._config(width, height)
+        table = self.classifier.lut(self.classifier.calibrate(rgb, cam))
         # motion blur (px) while the shutter is open: the image moves with the head (Darmstadt IV.B)
         blur_u = abs(head_yaw_rate) * cam[12] * p.exposure
         blur_v = abs(head_pitch_rate) * cam[13] * p.exposure + (p.walking_blur * width / 320.0 if walking else 0.0)
-        if p.method == "dnt":
-            points, seg_px, seg_ground, open_ends, cx, cy, loose = dnt_lines_nb(
-                classes, boundary, cam, step, dims.line_width, gap, p.max_distance, radius, self._circle, chain,
-                p.min_line_length, probe, blur_u, blur_v,
-            )  # fmt: skip
-        else:
-            lines = hough_lines(classes, boundary, cam, dims.line_width, radius, p.hough)
-            seg_px, seg_ground, open_ends = lines.seg_px, lines.seg_ground, lines.open_ends
-            cx, cy = lines.circle
-            # penalty-mark seeds: scanline points that lie on no line and not on the circle
-            points = line_points_nb(classes, boundary, cam, step, dims.line_width, gap, blur_u, blur_v)
-            loose = loose_points_nb(points, seg_px, cam, cx, cy, radius, p.circle_inlier, 3.0 * width / 320.0)
         sa, sb = sigmas(
             p.sigma_alpha_base, p.sigma_beta_base, p.c_tilt, p.c_pan, p.sigma_alpha_moving, p.sigma_beta_moving,
             head_pitch_rate, head_yaw_rate, walking,
         )  # fmt: skip
-        goals = self._goal_classes if own_goal == 0 else self._goal_classes[::-1]
-        posts = post_rows(classes, boundary, cam, goals, dims.goal_post_diameter, dims.goal_height, p.posts, sa, sb)
-        ball = ball_rows(rgb, classes, boundary, cam, dims.ball_diameter / 2, self._modern_ball, p.ball, sa, sb)
-        robots = robot_rows(
-            classes, boundary, cam, self._jersey_classes, self.team, p.robot_radius, p.obstacles, sa, sb
+        classes = np.empty((height, width), dtype=np.uint8)
+        boundary = np.empty(width, dtype=np.int32)
+        status, rows, offsets, points, seg_px, seg_ground, invalid = frame_nb(
+            rgb, cam, table, cfg, classes, boundary, own_goal, blur_u, blur_v, sa, sb
         )
-        rows, offsets, seg_px, seg_ground = asm.assemble_nb(
-            classes, boundary, cam, points, loose, seg_px, seg_ground, open_ends, cx, cy, posts, ball, robots,
-            goals[0], goals[1], self._net_class, prm, sa, sb,
-        )  # fmt: skip
+        if status == BAD_CAMERA:
+            raise ValueError("cam must be a finite camera row with positive focal lengths")
         self.debug = VisionDebug(classes, boundary, points, seg_px, seg_ground)
-        return Percepts(time, rows, offsets, cam, camera.spec)
+        if invalid >= 0:  # the checks of the constructor name the row
+            return Percepts(time, rows, offsets, cam, camera.spec)
+        return Percepts.of_checked_rows(time, rows, offsets, cam, camera.spec)
 
-    def _size_params(self, width: int) -> tuple[int, int, NDArray[np.float64], int, float, NDArray[np.float64]]:
-        """What :meth:`detect` needs for images ``width`` pixels wide: scan step and edge gap
-        (px), the chaining parameters (:func:`~cognition.vision.dnt.dnt_lines_nb`), the ends'
-        probe length (px), the boundary's run and the parameter vector of
-        :func:`~cognition.vision.assemble.assemble_nb` (pixel sizes scaled from 320 px)."""
-        p = self.params
-        dims = self.field.dims
-        scale = width / 320.0
-        chain = np.array([p.chain_gap * scale, p.chain_tolerance * scale, p.min_white, p.min_points, p.merge_angle])
-        values = {
-            asm.A_GOAL_WIDTH: dims.goal_inner_width + dims.goal_post_diameter, asm.A_GOAL_BEHIND: p.goal_behind,
-            asm.A_MIN_LINE: p.min_line_length, asm.A_MARGIN: p.crossing_margin, asm.A_MARGIN_IN: p.crossing_margin_in,
-            asm.A_BEYOND: p.crossing_beyond, asm.A_ANGLE: p.crossing_angle, asm.A_MIN_ARM: p.crossing_min_arm,
-            asm.A_MERGE_ANGLE: p.merge_angle, asm.A_MERGE_OFFSET: p.merge_offset, asm.A_MERGE_GAP: p.merge_gap,
-            asm.A_MAX_MPP: p.crossing_max_mpp, asm.A_CROSS_MAX: p.crossing_max_distance * math.sqrt(scale),
-            asm.A_POST_CLEARANCE: p.post_clearance, asm.A_POST_RADIUS: dims.goal_post_diameter / 2,
-            asm.A_GOAL_HEIGHT: dims.goal_height, asm.A_MAX_DISTANCE: p.max_distance,
-            asm.A_CIRCLE_RADIUS: self.field.centre_circle.radius if self.field.centre_circle is not None else 0.0,
-            asm.A_MARK_SIZE: dims.penalty_mark_size, asm.A_MARK_TOL: p.mark_tolerance,
-            asm.A_MARK_GREEN: p.mark_min_green, asm.A_MARK_PX: max(1, round(p.mark_min_px * scale)),
-            asm.A_MARK_MAX: p.mark_max_distance,
-        }  # fmt: skip
-        prm = np.zeros(asm.A_N)
-        for k, value in values.items():
-            prm[k] = value
-        step, gap = max(1, round(p.scan_step * scale)), max(1, round(p.edge_gap * scale))
-        return step, gap, chain, max(4, round(12 * scale)), p.boundary_run, prm
+    def _config(self, width: int, height: int) -> NDArray[np.float64]:
+        """The configuration of the compiled frame for images of ``width`` x ``height`` pixels."""
+        goals = self._goal_classes
+        classes = (goals[0], goals[1], self._net_class, *self._jersey_classes)
+        return frame_config(self.params, self.field, classes, self._modern_ball, self.team, width, height)
