@@ -36,6 +36,8 @@ other               the rest of ``Match.run`` (scene building, scripted events, 
 figure                                 meaning
 =====================================  ============================================================
 <obs>_rtf                              simulated / wall seconds, mean over seeds (one core)
+<obs>_rtf_min, <obs>_rtf_max           the slowest and the fastest seed (the spread includes this
+                                       machine's run-to-run noise, which can reach 10 %)
 <obs>_cpu_rtf                          simulated / CPU seconds of this process
 <obs>_us_per_robot_frame               wall time per robot and cognition frame (us)
 <obs>_position_error_m                 mean localization error (m; not on the truth)
@@ -182,17 +184,21 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         sim = wall = cpu = 0.0
         frames = 0
         errors = []
+        rtfs = []  # per seed: this machine's run-to-run spread
         for seed in range(args.seeds):
             match, w, c = play(obs, args.half_seconds, seed, loc)
             sim, wall, cpu = sim + match.time, wall + w, cpu + c
+            rtfs.append(match.time / w)
             frames += match.frames * len(match.world.robots)
             summary = match.localization_errors.summary()
             if summary is not None:
                 errors.append(summary.position_error_mean)
         figures[f"{obs}_rtf"] = sim / wall
         figures[f"{obs}_cpu_rtf"] = sim / cpu
+        figures[f"{obs}_rtf_min"], figures[f"{obs}_rtf_max"] = min(rtfs), max(rtfs)
         figures[f"{obs}_us_per_robot_frame"] = 1e6 * wall / frames
-        line = f"{obs:8s} {sim / wall:6.2f}x real time (CPU {sim / cpu:5.2f}x), "
+        line = f"{obs:8s} {sim / wall:6.2f}x real time (seeds {min(rtfs):.2f}..{max(rtfs):.2f}, "
+        line += f"CPU {sim / cpu:5.2f}x), "
         line += f"{1e6 * wall / frames:6.0f} us per robot-frame"
         if errors:
             figures[f"{obs}_position_error_m"] = sum(errors) / len(errors)
