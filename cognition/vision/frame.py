@@ -14,9 +14,9 @@ every returned array crosses the interpreter boundary) than several of them cost
 All parameters of one image size are packed into one vector (:func:`frame_config`, entries
 ``C_*`` and the stages' own parameter vectors at the offsets ``O_*``), built once per size.
 
-numba's on-disk cache keys a compiled function on its own source file only: after editing a
-stage module, delete the ``__pycache__/*.nbi`` and ``*.nbc`` files of this package, or this
-driver keeps the stage's old machine code.
+This driver compiles every stage into its own machine code; its on-disk cache is stamped
+with the contents of every project module it imports (:mod:`cognition.kernel_cache`), so an
+edit of any stage recompiles it.
 """
 
 from __future__ import annotations
