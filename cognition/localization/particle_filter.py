@@ -75,7 +75,14 @@ so a robot moved without noticing may settle on either; with goals of different 
 (``kidsize``, or a colour scheme with distinct goals) the posts tell the two apart. Telling
 them apart on an SPL field needs information from outside the robot's own percepts (the
 game state before kickoff, teammates' ball), which this module does not use beyond the own
-half of the game's setup phases.
+half of the game's setup phases. What the filters do keep is the side they are on: poses
+from vision (``reset``, ``maturing``) that fall within :data:`_MIRROR_RADIUS` of the
+estimate's mirror image are mirrored onto the estimate before they replace particles (not in
+the papers). A few lines and one post fit both halves equally, so such poses mature as
+readily as right ones; injected while the spread test called an accurate robot lost, they
+flipped goalkeepers that then faced their own net, saw nothing and stayed 180 degrees wrong
+(5 v 5 image matches; maturing, 60 s halves, seeds 0, 2, 3, 6: mean error 0.270, 0.152,
+0.207, 0.192 m without, 0.080, 0.044, 0.162, 0.085 m with).
 
 The evidence of a frame is the mean likelihood of the particles, taken per observation
 (the K-th root for K observations) so that w_slow and w_fast do not jump with the number of
@@ -320,7 +327,7 @@ class ParticleFilter(Localizer):
             self._watch(frame.time, unexplained, k)
         if k and frame.time - self._last_resample >= p.resample_interval:
             self._last_resample = frame.time
-            self._resample(obs, math.exp(evidence / k), math.exp(raw_evidence / k), lost)
+            self._resample(obs, math.exp(evidence / k), math.exp(raw_evidence / k), lost, pose)
             if self._relocalize:  # the safety net: random poses in place of particles just resampled
                 self._relocalize = False
                 self.relocalizations += 1
@@ -343,8 +350,11 @@ class ParticleFilter(Localizer):
             return 0.0
         return min(p.injection_max, max(0.0, 1.0 - self.w_fast / self.w_slow))
 
-    def _resample(self, obs: NDArray[np.float64], w_avg: float, w_raw: float, lost: bool) -> None:
+    def _resample(self, obs: NDArray[np.float64], w_avg: float, w_raw: float, lost: bool, pose: RobotPose) -> None:
         """Resample by the variant (module docstring) and inject its fresh poses, if any.
+
+        Poses from vision (``reset``, ``maturing``) that lie near the mirror image of ``pose``,
+        the estimate of this frame, are mirrored onto it first (:meth:`_away_from_mirror`).
 
         The number of injections is drawn from the numpy Generator before the compiled
         resampling runs: the two random streams are independent, so the order between them
@@ -387,6 +397,8 @@ class ParticleFilter(Localizer):
             self.parts[slots[:got]] = fresh
         if got == 0:
             return
+        if v != "amcl":
+            self.parts[slots[:got]] = self._away_from_mirror(self.parts[slots[:got]], pose)
         self.injected = got
         self.w_slow = self.w_fast = 0.0
 
