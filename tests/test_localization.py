@@ -269,6 +269,34 @@ def test_vision_poses_never_seed_the_estimates_mirror_image(variant):
     assert np.mean(err) < 0.3, np.mean(err)
 
 
+def test_candidates_mature_only_on_frames_with_a_landmark():
+    """Darmstadt VI: a candidate matures on consistent observations of different features.
+    A line fits many poses, so a frame that shows only lines keeps the candidates that fit it
+    but adds no age; in image matches, candidates aged on line-only frames took accurate
+    robots away. Over a walking recording, the oldest candidate never ages on a line-only
+    frame, and candidates do mature on the others."""
+    from cognition.localization.sensor import T, pack_observations
+
+    frames, _ = record(3, 12.0, walk=True, playing=True)
+    loc = make_localizer("maturing", SPL, rng=np.random.default_rng(1), player_number=1, players_per_team=1)
+    assert isinstance(loc, ParticleFilter)
+    line_only, aged, peak = 0, 0, 0
+    for f in frames:
+        before = loc.candidate_counts.max(initial=0)
+        loc.update(f)
+        after = loc.candidate_counts.max(initial=0)
+        peak = max(peak, after)
+        if f.percepts is None or len(f.percepts) == 0:
+            continue
+        types = pack_observations(f.percepts, loc._table)[:, 0]
+        if np.all(types == T.LINE):
+            line_only += before > 0
+            assert after <= before, (f.time, before, after)
+        aged += after > before
+    assert line_only >= 10 and aged >= 20, (line_only, aged)
+    assert peak >= LocalizationParams().maturing_threshold, peak
+
+
 # -- game-controller events -----------------------------------------------------------------
 def _frame(
     t: float, state=GameStateId.PLAYING, first_half=1, penalty=0, picked=False, odo=(0.0, 0.0, 0.0), percepts=None

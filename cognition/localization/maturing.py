@@ -5,8 +5,12 @@ wrong: a crossing or a white post fits several places. Instead of replacing part
 once, such poses become *candidates*. Every frame each candidate is moved by the odometry
 and scored against that frame's observations with the strict sensor model (pure Gaussians:
 confidence 1, no floors, so an inconsistent candidate cannot hide behind them); a candidate
-whose per-observation likelihood exp(ll / K) reaches ``maturing_consistency`` counts one
-more consistent frame, any other is dropped. The free places are refilled from vision in
+whose per-observation likelihood exp(ll / K) reaches ``maturing_consistency`` is kept, any
+other is dropped. The paper asks for consistent observations of *different features*: a kept
+candidate counts one more consistent frame only when the frame shows a landmark (post,
+crossing, centre circle, penalty mark, pole). Lines alone fit too many poses: when frames of
+lines counted, candidates far from the robot matured while it saw only lines and took an
+accurate estimate away (5 v 5 image matches). The free places are refilled from vision in
 batches (when at least a quarter of them is free). Candidates with at least
 ``maturing_threshold`` consistent frames may replace particles at the next resampling
 (:func:`kernels.inject_matured_nb`).
@@ -25,9 +29,10 @@ import numpy as np
 
 from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
 from cognition.localization.resetting import _from_vision_nb
-from cognition.localization.sensor import O
+from cognition.localization.sensor import O, T
 
-_CONF, _FLOOR = int(O.CONF), int(O.FLOOR)
+_CONF, _FLOOR, _TYPE = int(O.CONF), int(O.FLOOR), int(O.TYPE)
+_LINE = int(T.LINE)
 
 
 @nb.njit(cache=True)
@@ -83,11 +88,15 @@ def mature_nb(
             cand, nc, strict, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch,
             w, np.empty(k),
         )  # fmt: skip
+        landmark = 0
+        for r in range(k):
+            if obs[r, _TYPE] != _LINE:
+                landmark = 1
         kept = 0
         for i in range(nc):
             if math.exp(ll[i] / k) >= consistency:
                 cand[kept, 0], cand[kept, 1], cand[kept, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
-                count[kept] = count[i] + 1
+                count[kept] = count[i] + landmark
                 kept += 1
         nc = kept
     cap = cand.shape[0]

@@ -56,10 +56,11 @@ min_particles              150             [1, 100000]    the adaptive count nev
                                                           grow (with a floor of 50, 3% of match frames were off
                                                           by > 3 m: too few particles to keep the right mode)
 reset_from_any_feature     False           true/false     DNT 4.5: also reset from one random feature of any kind
-maturing_threshold         7               [1, 10000]     Darmstadt VI: consecutive consistent frames a candidate
-                                                          pose needs before it may replace particles (at 3,
-                                                          wrong candidates matured on line-only frames and a
-                                                          walking robot's error rose to 1.5 m; 7 gives 0.14 m)
+maturing_threshold         7               [1, 10000]     Darmstadt VI: consistent frames with a landmark that a
+                                                          candidate pose needs before it may replace particles
+                                                          (frames of lines only keep it but add nothing: lines
+                                                          fit too many poses; at 3 frames of any kind a walking
+                                                          robot's error rose to 1.5 m)
 maturing_candidates        40              [1, 10000]     candidate poses kept while maturing
 maturing_consistency       0.3             [0, 1]         a frame counts as consistent with a candidate when the
                                                           per-observation likelihood (no floors) reaches this
