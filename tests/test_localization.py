@@ -269,6 +269,36 @@ def test_vision_poses_never_seed_the_estimates_mirror_image(variant):
     assert np.mean(err) < 0.3, np.mean(err)
 
 
+def _pose_of(parts: np.ndarray, w: np.ndarray, prev: tuple[float, float, float]) -> np.ndarray:
+    """:func:`kernels.pose_nb` with the default parameters (0.4 m cluster, jump weight 0.2)."""
+    from cognition.localization import kernels
+
+    p = LocalizationParams()
+    out = np.zeros(14)
+    prev_arr = np.array([*prev, 1.0])
+    kernels.pose_nb(parts, len(w), w / w.sum(), prev_arr, p.cluster_radius, 0.5, 0.5, p.jump_weight, out)
+    return out
+
+
+def test_the_pose_jumps_only_to_a_heavier_cluster():
+    """CMU III.E lets the pose jump to the heaviest particle when the cluster at the previous
+    estimate is light. A lone heavy particle (one injected pose that explained a frame) whose
+    own cluster weighs less than the cloud at the estimate must not take the estimate away;
+    a heavier cluster elsewhere must."""
+    rng = np.random.default_rng(0)
+    cloud = np.column_stack([rng.normal(1.0, 0.7, 190), rng.normal(2.0, 0.7, 190), np.zeros(190)])
+    far = np.array([[-3.0, -1.0, 2.0]] * 10) + rng.normal(0.0, 0.02, (10, 3))
+    parts = np.ascontiguousarray(np.vstack([cloud, far]))
+    w = np.r_[np.full(190, 1.0), np.full(9, 0.2), [3.0]]  # the heaviest particle is far away, its cluster light
+    out = _pose_of(parts, w, (1.0, 2.0, 0.0))
+    assert out[4] < 0.2, out[4]  # the cluster at the estimate is light: the jump rule is in play
+    assert math.hypot(out[0] - 1.0, out[1] - 2.0) < 0.5, out[:3]
+    assert out[4] * w.sum() > w[190:].sum()  # and it still outweighs the far cluster
+    w[190:] = 20.0  # now the far cluster outweighs the cloud's
+    out = _pose_of(parts, w, (1.0, 2.0, 0.0))
+    assert math.hypot(out[0] + 3.0, out[1] + 1.0) < 0.1, out[:3]
+
+
 def test_candidates_mature_only_on_frames_with_a_landmark():
     """Darmstadt VI: a candidate matures on consistent observations of different features.
     A line fits many poses, so a frame that shows only lines keeps the candidates that fit it

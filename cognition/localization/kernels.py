@@ -398,13 +398,33 @@ def resample_nb(
 
 
 @nb.njit(cache=True)
+def _cluster_nb(parts, n, w, seed, r2):  # pragma: no cover - compiled
+    """Weight and weighted sums (x, y, cos theta, sin theta) of the particles within sqrt(``r2``)
+    m of particle ``seed``."""
+    sx, sy = parts[seed, 0], parts[seed, 1]
+    cw = mx = my = mc = ms = 0.0
+    for i in range(n):
+        ex, ey = parts[i, 0] - sx, parts[i, 1] - sy
+        if ex * ex + ey * ey <= r2:
+            cw += w[i]
+            mx += w[i] * parts[i, 0]
+            my += w[i] * parts[i, 1]
+            sn, cs = fast_sincos(parts[i, 2])
+            mc += w[i] * cs
+            ms += w[i] * sn
+    return cw, mx, my, mc, ms
+
+
+@nb.njit(cache=True)
 def pose_nb(parts, n, w, prev, radius, near_xy, near_th, jump_weight, out):  # pragma: no cover - compiled
     """CMU III.E pose extraction. Returns (x, y, theta, spread, cluster weight) in ``out[:5]``
     and the 3 x 3 covariance around the pose in ``out[5:14]``.
 
     ``prev``: previous estimate (x, y, theta, valid); the heaviest particle within
     ``near_xy`` m and ``near_th`` rad of it seeds the cluster, else the heaviest overall. If
-    the cluster weighs less than ``jump_weight`` the heaviest overall seeds it instead.
+    the cluster weighs less than ``jump_weight`` the heaviest overall seeds it instead, if its
+    cluster weighs more (the paper allows the jump; jumping to a lighter cluster would follow
+    a few injected poses away from an estimate the cloud still supports).
     """
     best_all, best_near = -1, -1
     for i in range(n):
@@ -415,25 +435,12 @@ def pose_nb(parts, n, w, prev, radius, near_xy, near_th, jump_weight, out):  # p
         if near and abs(wrap(parts[i, 2] - prev[2])) <= near_th and (best_near < 0 or w[i] > w[best_near]):
             best_near = i
     r2 = radius * radius
-    for attempt in range(2):
-        seed = best_near if (attempt == 0 and best_near >= 0) else best_all
-        sx, sy = parts[seed, 0], parts[seed, 1]
-        cw = 0.0
-        mx = 0.0
-        my = 0.0
-        mc = 0.0
-        ms = 0.0
-        for i in range(n):
-            ex, ey = parts[i, 0] - sx, parts[i, 1] - sy
-            if ex * ex + ey * ey <= r2:
-                cw += w[i]
-                mx += w[i] * parts[i, 0]
-                my += w[i] * parts[i, 1]
-                sn, cs = fast_sincos(parts[i, 2])
-                mc += w[i] * cs
-                ms += w[i] * sn
-        if cw >= jump_weight or seed == best_all:
-            break
+    seed = best_near if best_near >= 0 else best_all
+    cw, mx, my, mc, ms = _cluster_nb(parts, n, w, seed, r2)
+    if cw < jump_weight and seed != best_all:
+        cw2, mx2, my2, mc2, ms2 = _cluster_nb(parts, n, w, best_all, r2)
+        if cw2 > cw:  # jump only to a heavier cluster
+            seed, cw, mx, my, mc, ms = best_all, cw2, mx2, my2, mc2, ms2
     if not cw > 0.0:  # weights that are not a distribution (cannot happen after normalise_nb): the seed
         cw, mx, my, mc, ms = 1.0, parts[seed, 0], parts[seed, 1], math.cos(parts[seed, 2]), math.sin(parts[seed, 2])
     x, y, th = mx / cw, my / cw, math.atan2(ms, mc)

@@ -66,6 +66,7 @@ maturing_consistency       0.3             [0, 1]         a frame counts as cons
                                                           per-observation likelihood (no floors) reaches this
 cluster_radius             0.40 m          (0, 100]       CMU III.E: particles within this of the best form the pose
 jump_weight                0.2             [0, 1]         CMU III.E: below this cluster weight the pose jumps
+                                                          to the heaviest particle's cluster, if that is heavier
 lost_spread                0.5 m           (0, 100]       CMU III.E: weighted position sd above which the robot is lost
 return_rule                spl2025                        penalty return positions (``spl2025`` or ``spl2010``)
 penalty_prior              true            true/false     CMU III.A.3: a robot returning from a penalty puts its
