@@ -204,10 +204,10 @@ def kidnapped_walks() -> list[tuple[int, list[SensorFrame], np.ndarray, int]]:
 def test_no_variant_stays_lost_after_a_kidnapping(variant, kidnapped_walks):
     """While good percepts keep arriving, every variant finds the robot again (modulo the
     field's mirror symmetry) within the 62 s after the kidnapping in at least 7 of the 8
-    recordings (measured: all 8 for mcl, lowvar, amcl and reset; maturing stays lost in about
-    1 of 32 runs over 4 filter seeds). Without the safety net (``relocalize_seconds = 0``, the
-    papers' algorithms) mcl stayed lost in 4 of these 8 recordings, lowvar in 1 and maturing
-    in 2."""
+    recordings (measured: all 8 for every variant, at worst after 42 s; before the pose-jump and
+    maturing changes of 2026-11-27 maturing stayed lost in about 1 of 32 runs over 4 filter
+    seeds). Without the safety net (``relocalize_seconds = 0``, the papers' algorithms) mcl
+    stayed lost in 4 of these 8 recordings, lowvar in 1 and maturing in 3."""
     lost = []
     for seed, frames, truth, k in kidnapped_walks:
         poses, loc = run(variant, frames, seed)
@@ -230,8 +230,8 @@ def test_the_safety_net_seldom_fires_and_seldom_hurts_while_the_robot_is_localiz
     """False positives and noise (``harsh`` percepts) leave some observations unexplained while
     the estimate is right. Over 4 walking recordings and the 5 particle variants (20 runs of
     25 s), the net fires at most twice a run, and the mean error exceeds the papers' plain
-    variant's by more than 0.1 m in at most 2 runs (measured: 1, maturing pulled 4 m away
-    after an injection)."""
+    variant's by more than 0.1 m in at most 2 runs (measured: 1, reset; before 2026-11-27 it
+    was maturing, pulled 4 m away after an injection)."""
     worse, fires = 0, []
     for seed in range(4):
         frames, truth = record(seed, 25.0, walk=True, playing=True, percepts="harsh")

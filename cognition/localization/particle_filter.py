@@ -64,7 +64,7 @@ false positives and occlusions leave up to half of a window unexplained now and 
 
 Measured on 8 recordings of a robot walking in its own half, carried to a random pose after
 8 s (``default`` percepts): without the net ``mcl`` stayed lost for the remaining 62 s in
-4 of 8, ``lowvar`` in 1 and ``maturing`` in 2; with it every variant found the robot again
+4 of 8, ``lowvar`` in 1 and ``maturing`` in 3; with it every variant found the robot again
 (modulo the mirror symmetry) in every recording, at worst after 42 s.
 :attr:`ParticleFilter.relocalizations` counts the injections; a study of the papers' plain
 variants sets ``relocalize_seconds = 0``.
