@@ -387,18 +387,17 @@ class ParticleFilter(Localizer):
             got = K.inject_matured_nb(
                 self.parts, slots, self._cand, self._cand_count, self._nc, p.maturing_threshold, self._state
             )
+            if got:
+                self.parts[slots] = self._away_from_mirror(self.parts[slots], pose)
+        elif v == "amcl":
+            got = m_inj
+            self.parts[slots] = self._uniform_poses(m_inj)
         else:
-            fresh = (
-                self._uniform_poses(m_inj)
-                if v == "amcl"
-                else from_vision(self.model, obs, m_inj, p.reset_from_any_feature, self._state)
-            )
+            fresh = from_vision(self.model, obs, m_inj, p.reset_from_any_feature, self._state)
             got = fresh.shape[0]
-            self.parts[slots[:got]] = fresh
+            self.parts[slots[:got]] = self._away_from_mirror(fresh, pose)
         if got == 0:
             return
-        if v != "amcl":
-            self.parts[slots[:got]] = self._away_from_mirror(self.parts[slots[:got]], pose)
         self.injected = got
         self.w_slow = self.w_fast = 0.0
 
