@@ -344,7 +344,7 @@ class CameraImage:
 
 
 # -- compiled geometry (same conventions as above) ------------------------------------------
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def camera_pose_nb(
     neck_height: float,
     offset_x: float,
@@ -378,7 +378,7 @@ def camera_pose_nb(
     pos[2] = neck_height + hz
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def to_camera_nb(rot: NDArray[np.float64], pos: NDArray[np.float64], x: float, y: float, z: float) -> tuple:
     """Camera-frame coordinates of robot-frame point (x, y, z)."""  # pragma: no cover - compiled
     dx, dy, dz = x - pos[0], y - pos[1], z - pos[2]

@@ -9,6 +9,14 @@ of the cache (a fresh CI machine compiles, the next run loads). Without it both 
 the same numbers and one seed gives one result; the other flags (no NaN or infinity
 assumptions, signed zeros, reciprocals, contraction, approximate functions) still let LLVM
 vectorize the kernels' arithmetic.
+
+A kernel that does not name its flags takes them from the compiled function that first calls
+it (numba compiles the callee with the caller's flags, and caches that build): the renderer
+(``fastmath=FASTMATH``) compiling :func:`cognition.camera.camera_pose_nb` first gave its sines
+approximate last bits, a Python call first gave exact ones, and the same image match diverged
+with the history of the cache. So every kernel that is not ``inline="always"`` names both
+``fastmath`` (this set, or ``False``) and ``error_model``; ``tests/test_kernel_cache.py``
+checks it.
 """
 
 from __future__ import annotations

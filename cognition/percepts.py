@@ -264,7 +264,7 @@ _RULES = (
 )
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _offsets_ok_nb(offsets: NDArray[np.int64], n_rows: int) -> bool:  # pragma: no cover - compiled
     """Offsets start at >= 0, never decrease and end within ``n_rows``."""
     if offsets[0] < 0 or offsets[-1] > n_rows:
@@ -275,7 +275,7 @@ def _offsets_ok_nb(offsets: NDArray[np.int64], n_rows: int) -> bool:  # pragma: 
     return True
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _all_finite_nb(values: NDArray[np.float64]) -> bool:  # pragma: no cover - compiled
     """No NaN or infinity in ``values``."""
     for x in values:  # noqa: SIM110 - compiled, no generators
@@ -284,7 +284,7 @@ def _all_finite_nb(values: NDArray[np.float64]) -> bool:  # pragma: no cover - c
     return True
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _first_invalid_nb(rows, offsets, subtype_max):  # pragma: no cover - compiled
     """(row, column, rule) of the first entry that breaks the rules of the module docstring
     (rule: index into ``_RULES``), or (-1, -1, -1) when every row of the offsets' range is valid."""
@@ -578,7 +578,7 @@ def measurement_covariance(
     return covariance_nb(x, y, camera_x, camera_y, height, sigma_alpha, sigma_beta)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def covariance_nb(
     x: float, y: float, cx: float, cy: float, h: float, sa: float, sb: float
 ) -> tuple[float, float, float]:  # pragma: no cover - compiled

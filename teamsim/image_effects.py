@@ -69,7 +69,7 @@ POOL_REUSE = 256
 _ROUND = np.float32(1.5 * 2**23)  # x + _ROUND holds the nearest integer to x (0 <= x < 2^22) in its low bits
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _tri_cdf(x: float) -> float:
     """Integral of the unit triangle (pixel footprint of linear interpolation) from -inf to ``x`` px."""
     if x <= -1.0:
@@ -81,7 +81,7 @@ def _tri_cdf(x: float) -> float:
     return 1.0
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _taps(length: float) -> NDArray[np.float32]:
     """Weights of the direct horizontal blur of ``length`` px at offsets 0..K (symmetric), K =
     ceil(L / 2): the overlap of each pixel's footprint with the blur box, over ``L``."""
@@ -94,7 +94,7 @@ def _taps(length: float) -> NDArray[np.float32]:
     return w
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _blur_border(s: NDArray, d: NDArray[np.float32], w: NDArray[np.float32]) -> None:
     """The pixels within ``K`` (= len(w) - 1) of either end of row ``s`` (3W) blurred by the taps
     ``w`` into ``d``, borders replicated (the interior is the caller's vector loop)."""
@@ -111,7 +111,7 @@ def _blur_border(s: NDArray, d: NDArray[np.float32], w: NDArray[np.float32]) -> 
             d[3 * i + c] = acc
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _blur_rows(src: NDArray[np.uint8], dst: NDArray[np.float32], length: float) -> None:
     """Horizontal motion blur of ``length`` px from ``src`` (H x 3W, RGB interleaved) into ``dst``.
 
@@ -181,7 +181,7 @@ def _blur_rows(src: NDArray[np.uint8], dst: NDArray[np.float32], length: float) 
             )
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _col_weights(length: float) -> tuple[int, np.float32, np.float32, np.float32, np.float32, np.float32]:
     """Constants of a vertical blur of ``length`` px (running sums over rows, see :func:`_blur_cols`):
     kh = floor(L / 2), 1 / L and the weights of the partial rows at the window's ends."""
@@ -193,7 +193,7 @@ def _col_weights(length: float) -> tuple[int, np.float32, np.float32, np.float32
     return kh, np.float32(1.0 / length), cr0, cr1, cl0, cl1
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
     """Vertical motion blur of ``length`` px from ``src`` (H x 3W) into ``dst``: running sums over rows."""
     H, n = src.shape[0], src.shape[1]
@@ -213,7 +213,7 @@ def _blur_cols(src: NDArray, dst: NDArray[np.float32], length: float) -> None:
             S[p] += np.float32(0.5) * (r + r1 - q - q1)
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _gains(gain: NDArray[np.float64], vcol: NDArray[np.float32]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
     """Per value of a row (3W): the channel gain ``gv`` and ``gc = gv vcol[i]``; a value of row ``j``
     is scaled by ``vrow[j] gv - gc`` (gains and vignetting)."""
@@ -228,7 +228,7 @@ def _gains(gain: NDArray[np.float64], vcol: NDArray[np.float32]) -> tuple[NDArra
     return gv, gc
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _dn(sig: np.float32, z: np.float32, r2: np.float32, sh: np.float32) -> np.uint8:
     """Signal ``sig`` (DN) with noise ``sqrt(r2 + sh sig) z``, rounded to the nearest integer (ties to
     even, as ``rint``) and clipped to 0..255. The integer is in the low bits of the clipped value
@@ -237,7 +237,7 @@ def _dn(sig: np.float32, z: np.float32, r2: np.float32, sh: np.float32) -> np.ui
     return np.uint8(np.int32(min(max(y, np.float32(0.0)), np.float32(255.0)) + _ROUND))
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _photometric(
     src: NDArray,
     dst: NDArray[np.uint8],
@@ -261,7 +261,7 @@ def _photometric(
             d[q] = _dn(np.float32(s[q]) * (a * gv[q] - gc[q]), z[q], r2, sh)
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _blur_rows_photometric(
     img: NDArray[np.uint8],
     length: float,
@@ -310,7 +310,7 @@ def _blur_rows_photometric(
                 di[q] = _dn(v * (a * gvi[q] - gci[q]), zi[q], r2, sh)
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _blur_cols_photometric(
     src: NDArray[np.float32],
     dst: NDArray[np.uint8],
@@ -346,7 +346,7 @@ def _blur_cols_photometric(
             d[p] = _dn(v * (a * gv[p] - gc[p]), z[p], r2, sh)
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _rolling_shutter_photometric(
     src: NDArray,
     dst: NDArray[np.uint8],
@@ -400,7 +400,7 @@ def _rolling_shutter_photometric(
                 d[p] = _dn(v * (vr * gv[p] - gc[p]), z[p], r2, sh)
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _copy(src: NDArray[np.uint8], dst: NDArray[np.uint8]) -> None:
     """``dst[:] = src`` for two H x 3W images (a loop: numba's slice assignment is much slower)."""
     a, b = src.reshape(src.size), dst.reshape(dst.size)
@@ -408,7 +408,7 @@ def _copy(src: NDArray[np.uint8], dst: NDArray[np.uint8]) -> None:
         b[q] = a[q]
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, error_model="python", fastmath=FASTMATH)
 def _effects(
     img: NDArray[np.uint8],
     lh: float,

@@ -62,7 +62,7 @@ def draws_bound(n_observers: int, fidx: NDArray[np.int64]) -> tuple[int, int]:
     return n_observers * per, n_observers * per
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def synthesize_nb(
     obs: NDArray[np.float64],
     occ: NDArray[np.float64],

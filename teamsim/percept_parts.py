@@ -177,7 +177,7 @@ def rate(prm: NDArray[np.float64], base: int, d: float) -> float:  # pragma: no 
     return prm[base] * (far - d) / (far - full)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def emit(out, row, x, y, u, v, sub, ctx, h, truth):  # pragma: no cover - compiled
     """Write a point row measured at robot-frame (x, y), ``h`` below the camera (covariance there)."""
     sa, sb = ctx[CTX.SAR], ctx[CTX.SBR]
@@ -198,14 +198,14 @@ def emit(out, row, x, y, u, v, sub, ctx, h, truth):  # pragma: no cover - compil
     out[row, 17] = -1.0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def set_cov(out, row, x, y, ctx, h):  # pragma: no cover - compiled
     """Overwrite a row's covariance with the one at robot-frame (x, y)."""
     cov = covariance_nb(x, y, ctx[CTX.PCX], ctx[CTX.PCY], h, ctx[CTX.SAR], ctx[CTX.SBR])
     out[row, Col.VAR_XX], out[row, Col.VAR_XY], out[row, Col.VAR_YY] = cov[0], cov[1], cov[2]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def look(m, ctx, px, py, pz):  # pragma: no cover - compiled
     """(in image, u, v, ground distance from the optical centre, world bearing) of a world point."""
     dx, dy, dz = px - ctx[CTX.CX], py - ctx[CTX.CY], pz - ctx[CTX.HC]
@@ -223,7 +223,7 @@ def look(m, ctx, px, py, pz):  # pragma: no cover - compiled
     return ok, u, v, d, b
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def pixel(m, ctx, px, py, pz):  # pragma: no cover - compiled
     """Pixel of a world point (NaN behind the camera)."""
     dx, dy, dz = px - ctx[CTX.CX], py - ctx[CTX.CY], pz - ctx[CTX.HC]
@@ -236,7 +236,7 @@ def pixel(m, ctx, px, py, pz):  # pragma: no cover - compiled
     return cx - fx * q1 / q0, cy - fy * q2 / q0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def measure(px, py, pz, ctx, normals, cursor):  # pragma: no cover - compiled
     """Robot-frame position of a world point seen through noisy viewing angles (Darmstadt IV.B)."""
     Cx, Cy, X, Y, ct, st = ctx[CTX.CX], ctx[CTX.CY], ctx[CTX.X], ctx[CTX.Y], ctx[CTX.CT], ctx[CTX.ST]
@@ -257,7 +257,7 @@ def measure(px, py, pz, ctx, normals, cursor):  # pragma: no cover - compiled
     return True, ct * wx + st * wy, -st * wx + ct * wy
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def ball_row(out, row, px, py, u, v, truth, ctx, ball_r, rad_sigma, normals, cursor):  # pragma: no cover
     """Write a ball row (projection plus noisy image radius); returns the next row."""
     ok_m, mx, my = measure(px, py, ball_r, ctx, normals, cursor)
@@ -275,7 +275,7 @@ def ball_row(out, row, px, py, u, v, truth, ctx, ball_r, rad_sigma, normals, cur
     return row + 1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def occlusion(d, b, w, z, hc, occg, skip):  # pragma: no cover - compiled
     """Hidden fraction of an object at distance d, bearing b, angular half-width w, height z.
 
@@ -301,7 +301,7 @@ def occlusion(d, b, w, z, hc, occg, skip):  # pragma: no cover - compiled
     return min(frac, 1.0)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def visible(m, ctx, occg, px, py, pz, radius, max_range, max_occ, skip):  # pragma: no cover - compiled
     """(seen, u, v, ground distance, hidden fraction) of an object of ``radius`` at world (px, py, pz).
 
@@ -319,7 +319,7 @@ def visible(m, ctx, occg, px, py, pz, radius, max_range, max_occ, skip):  # prag
     return True, u, v, d, frac
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def clip(g0, g1, lo, hi):  # pragma: no cover - compiled
     """Intersect [lo, hi] with {t : g0 + t g1 >= 0}."""
     if abs(g1) < 1e-15:
@@ -330,7 +330,7 @@ def clip(g0, g1, lo, hi):  # pragma: no cover - compiled
     return lo, min(hi, t)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def shadow_interval(ax, ay, bx, by, od, ob, ow, oh, hc):  # pragma: no cover - compiled
     """Parameters [lo, hi] of the ground segment a + t b (relative to the camera) hidden by a robot."""
     lo, hi = 0.0, 1.0
@@ -346,7 +346,7 @@ def shadow_interval(ax, ay, bx, by, od, ob, ow, oh, hc):  # pragma: no cover - c
     return lo, hi
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def point_segment_distance(px, py, x1, y1, x2, y2):  # pragma: no cover - compiled
     dx, dy = x2 - x1, y2 - y1
     dd = dx * dx + dy * dy
@@ -354,14 +354,14 @@ def point_segment_distance(px, py, x1, y1, x2, y2):  # pragma: no cover - compil
     return math.hypot(x1 + t * dx - px, y1 + t * dy - py)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def line_direction(dx, dy):  # pragma: no cover - compiled
     """Undirected direction of (dx, dy) in [0, pi)."""
     a = math.atan2(dy, dx) % math.pi
     return 0.0 if a >= math.pi - 1e-12 else a
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def crossing_orientation(kind, a):  # pragma: no cover - compiled
     """Wrap a crossing orientation: (-pi, pi] for L and T, [0, pi/2) for X."""
     if kind == 2:
@@ -370,7 +370,7 @@ def crossing_orientation(kind, a):  # pragma: no cover - compiled
     return wrap(a)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def exit_distance(x, y, ux, uy, hx, hy):  # pragma: no cover - compiled
     """Distance from (x, y) along (ux, uy) to the border of the box |x| <= hx, |y| <= hy."""
     t = 1e9
@@ -385,7 +385,7 @@ def exit_distance(x, y, ux, uy, hx, hy):  # pragma: no cover - compiled
     return max(t, 0.0)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def random_ground(rot, pos, X, Y, ct, st, W, H, fx, fy, cx, cy, uniforms, cursor):  # pragma: no cover
     """A random image pixel's ground point (world frame); uses uniforms[cursor+1], [cursor+2]."""
     ur = uniforms[cursor[1] + 1] * W

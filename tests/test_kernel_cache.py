@@ -63,3 +63,79 @@ def test_the_stamp_covers_imported_modules_but_not_the_packages_imports() -> Non
     assert {"cognition/vision/scanlines.py", "cognition/vision/segments.py", "cognition/vision/circle.py"} <= deps
     # the vision package's __init__ imports every stage, but dnt.py takes nothing from them
     assert "cognition/vision/robots.py" not in deps and "cognition/vision/vision.py" not in deps
+
+
+# -- compile order ------------------------------------------------------------------------
+# numba compiles a kernel that states no fastmath or error model, when a caller compiles it
+# first, with the *caller's* flags, and caches that code: the kernel's results then depend on
+# which caller ran first on this machine (camera_pose_nb, first compiled by the fastmath
+# renderer, gave other last bits of its sines than when first called from Python, and a match
+# on images diverged). Kernels that state both flags compile the same code from any caller.
+_CALLEE = (
+    "import math\n\nimport numba\n\n\n@numba.njit(cache=True{flags})\ndef callee(a):\n"
+    "    return math.cos(a) * math.sin(a) + 0.1 * a\n"
+)
+_CALLER = (
+    "import numba\n\nfrom kcorder.callee import callee\n\n\n"
+    "@numba.njit(cache=True, fastmath=True, error_model='numpy')\ndef caller(a):\n    return callee(a)\n"
+)
+_ORDER = (
+    "import numpy as np\nfrom kcorder import callee, caller\nxs = np.linspace(0.1, 3.0, 200)\n"
+    "if {caller_first}:\n    caller.caller(0.5)\nprint(repr([callee.callee(x) for x in xs]))"
+)
+
+
+def _callee_values(tmp_path: Path, flags: str, caller_first: bool) -> str:
+    """The callee's values (from Python) in a fresh package after the first compile was by
+    the fastmath caller or by the callee itself."""
+    root = tmp_path / f"{caller_first}{len(flags)}"
+    pkg = root / "kcorder"
+    pkg.mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "callee.py").write_text(_CALLEE.format(flags=flags))
+    (pkg / "caller.py").write_text(_CALLER)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])}
+    env.pop("NUMBA_CACHE_DIR", None)
+    code = _ORDER.format(caller_first=caller_first)
+    first = subprocess.run([sys.executable, "-c", code], cwd=root, env=env, capture_output=True, text=True)
+    assert first.returncode == 0, first.stderr
+    again = subprocess.run([sys.executable, "-c", code.replace(f"if {caller_first}", "if False")], cwd=root, env=env,
+                           capture_output=True, text=True)  # fmt: skip
+    assert again.returncode == 0, again.stderr
+    assert again.stdout == first.stdout  # the cache serves the code compiled first
+    return first.stdout
+
+
+def test_kernels_with_explicit_flags_compile_the_same_code_from_any_caller(tmp_path: Path) -> None:
+    flags = ", fastmath=False, error_model='python'"
+    assert _callee_values(tmp_path, flags, caller_first=True) == _callee_values(tmp_path, flags, caller_first=False)
+    # the hazard the rule guards against is numba's: without flags the first caller decides
+    assert _callee_values(tmp_path, "", caller_first=True) != _callee_values(tmp_path, "", caller_first=False)
+
+
+def test_every_project_kernel_states_its_fastmath_and_error_model() -> None:
+    """Every compiled function of cognition and teamsim that is not inlined into its callers
+    names both flags, so that its cached code does not depend on which caller compiled it."""
+    import importlib
+    import pkgutil
+
+    from numba.core.registry import CPUDispatcher
+
+    import cognition
+    import teamsim
+
+    kernels, missing = 0, []
+    for pkg in (cognition, teamsim):
+        for info in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + "."):
+            if info.name.endswith(".__main__"):
+                continue
+            module = importlib.import_module(info.name)
+            for name, obj in vars(module).items():
+                if not isinstance(obj, CPUDispatcher) or obj.py_func.__module__ != module.__name__:
+                    continue
+                kernels += 1
+                opts = obj.targetoptions
+                if opts.get("inline", "never") != "always" and not {"fastmath", "error_model"} <= opts.keys():
+                    missing.append(f"{module.__name__}.{name}")
+    assert kernels > 200
+    assert not missing, f"kernels without explicit fastmath and error_model: {missing}"

@@ -301,7 +301,7 @@ def _hough_q(px, py, th, c, s, ob, hough, lines):  # pragma: no cover - compiled
     return q
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def predict_nb(parts, n, dx, dy, dth, sig, state):  # pragma: no cover - compiled
     """CMU Alg. 2 on particles [0, n). ``sig``: sigma_mx, sigma_mtheta, sigma_mytheta, floor_xy, floor_theta."""
     sx = max(sig[0] * abs(dx), sig[3])
@@ -317,7 +317,7 @@ def predict_nb(parts, n, dx, dy, dth, sig, state):  # pragma: no cover - compile
         parts[i, 2] = wrap(parts[i, 2] + mt)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def normalise_nb(logw, n, w):  # pragma: no cover - compiled
     """Normalised weights of log-weights [0, n) into ``w``; returns log of the mean of exp(logw).
 
@@ -350,7 +350,7 @@ def normalise_nb(logw, n, w):  # pragma: no cover - compiled
     return m + shift
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def resample_nb(
     parts, n, w, logw, out, m, low_variance, jit_xy, jit_th, m_inj, slots, state
 ):  # pragma: no cover - compiled
@@ -397,7 +397,7 @@ def resample_nb(
         _choose_into(slots, m, m_inj, state)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _cluster_nb(parts, n, w, seed, r2):  # pragma: no cover - compiled
     """Weight and weighted sums (x, y, cos theta, sin theta) of the particles within sqrt(``r2``)
     m of particle ``seed``."""
@@ -415,7 +415,7 @@ def _cluster_nb(parts, n, w, seed, r2):  # pragma: no cover - compiled
     return cw, mx, my, mc, ms
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def pose_nb(parts, n, w, prev, radius, near_xy, near_th, jump_weight, out):  # pragma: no cover - compiled
     """CMU III.E pose extraction. Returns (x, y, theta, spread, cluster weight) in ``out[:5]``
     and the 3 x 3 covariance around the pose in ``out[5:14]``.
@@ -459,7 +459,7 @@ def pose_nb(parts, n, w, prev, radius, near_xy, near_th, jump_weight, out):  # p
     out[11], out[12], out[13] = cxt, cyt, ctt
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def gaussian_set_nb(out, start, m, centres, sig_xy, sig_th, state):  # pragma: no cover - compiled
     """Fill rows [start, start + m) of ``out`` with poses spread around ``centres`` (K x 3),
     taken in turn, with Gaussian noise."""
@@ -471,7 +471,7 @@ def gaussian_set_nb(out, start, m, centres, sig_xy, sig_th, state):  # pragma: n
         out[start + i, 2] = wrap(c[2] + sig_th * rand_n(state))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _choose_into(idx, n, m, state):  # pragma: no cover - compiled
     """``idx[:m]``: ``m`` distinct indices drawn uniformly from 0..n-1 (0 <= m <= n), in random
     order: the first ``m`` steps of a Fisher-Yates shuffle of ``idx[:n]``, set to 0..n-1 first,
@@ -483,7 +483,7 @@ def _choose_into(idx, n, m, state):  # pragma: no cover - compiled
         idx[i], idx[j] = idx[j], idx[i]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def choose_nb(n, m, state):  # pragma: no cover - compiled
     """:func:`_choose_into` into a new array; returns the ``m`` indices."""
     idx = np.empty(n, dtype=np.int64)
@@ -491,7 +491,7 @@ def choose_nb(n, m, state):  # pragma: no cover - compiled
     return idx[:m].copy()
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def inject_matured_nb(parts, slots, cand, count, nc, threshold, state):  # pragma: no cover - compiled
     """Replace the particles at ``slots`` by poses around the matured candidates (the first
     ``nc`` rows of ``cand`` whose ``count`` reaches ``threshold``, taken in turn; Gaussian noise
@@ -514,7 +514,7 @@ def inject_matured_nb(parts, slots, cand, count, nc, threshold, state):  # pragm
     return slots.shape[0]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def uniform_set_nb(out, start, m, hl, hw, own_half, state):  # pragma: no cover - compiled
     """Fill rows [start, start + m) with uniform poses over the field (x in [-hl, hl] or the own
     half [-hl, 0]) and all headings; without ``own_half`` they come in mirrored pairs
@@ -531,7 +531,7 @@ def uniform_set_nb(out, start, m, hl, hw, own_half, state):  # pragma: no cover 
             i += 1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def frame_nb(
     parts,
     n,

@@ -35,7 +35,7 @@ _CONF, _FLOOR, _TYPE = int(O.CONF), int(O.FLOOR), int(O.TYPE)
 _LINE = int(T.LINE)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def move_candidates_nb(cand, nc, dx, dy, dth):  # pragma: no cover - compiled
     """Move the first ``nc`` candidate poses by the odometry (dx, dy m in the robot's frame
     of the previous frame, dth rad)."""
@@ -46,7 +46,7 @@ def move_candidates_nb(cand, nc, dx, dy, dth):  # pragma: no cover - compiled
         cand[i, 2] = (cand[i, 2] + dth + math.pi) % (2 * math.pi) - math.pi
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def mature_nb(
     cand,
     count,

@@ -47,7 +47,7 @@ _TYPE, _X, _Y, _A, _B = int(O.TYPE), int(O.X), int(O.Y), int(O.A), int(O.B)
 _SR, _SB, _DIST, _BEAR = int(O.SR), int(O.SB), int(O.DIST), int(O.BEAR)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _post_candidates(posts, ob):  # pragma: no cover - compiled
     """Indices of the map posts (``FieldModel.posts`` rows) observation ``ob`` may be."""
     side, goal = ob[_A], ob[_B]
@@ -63,7 +63,7 @@ def _post_candidates(posts, ob):  # pragma: no cover - compiled
     return out[:k]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _landmarks(posts, crossings, marks, poles, ob):  # pragma: no cover - compiled
     """Map positions (K x 2, team frame, m) a single observation may be."""
     t = int(ob[_TYPE])
@@ -94,7 +94,7 @@ def _landmarks(posts, crossings, marks, poles, ob):  # pragma: no cover - compil
     return np.zeros((0, 2))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _around_feature_nb(posts, crossings, marks, poles, ob, m, state):  # pragma: no cover - compiled
     """See :func:`around_feature`."""
     lm = _landmarks(posts, crossings, marks, poles, ob)
@@ -114,7 +114,7 @@ def _around_feature_nb(posts, crossings, marks, poles, ob, m, state):  # pragma:
     return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _two_posts_nb(posts, a, b, m, state):  # pragma: no cover - compiled
     """See :func:`from_two_posts`."""
     ca, cb = _post_candidates(posts, a), _post_candidates(posts, b)
@@ -160,7 +160,7 @@ def _two_posts_nb(posts, a, b, m, state):  # pragma: no cover - compiled
     return out[:k]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _from_vision_nb(posts, crossings, marks, poles, obs, m, any_feature, state):  # pragma: no cover - compiled
     """See :func:`from_vision`."""
     if m <= 0 or obs.shape[0] == 0:

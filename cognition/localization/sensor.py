@@ -134,7 +134,7 @@ def pack_observations(percepts: Percepts | None, table: NDArray[np.float64]) -> 
     return out[:k]
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _sig(tab, base, adaptive, row, x, y):  # pragma: no cover - compiled
     """Distance and bearing sigmas at (x, y): the table at ``base`` (min, rate, bearing, bearing
     rate) or, ``adaptive``, from the percept's covariance (Darmstadt eqs. 8-15)."""
@@ -148,7 +148,7 @@ def _sig(tab, base, adaptive, row, x, y):  # pragma: no cover - compiled
     return tab[base] + tab[base + 1] * d, tab[base + 2] + tab[base + 3] * d
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def pack_nb(rows, offsets, tab, out):  # pragma: no cover - compiled
     """Fill ``out`` with observation rows from percept rows (kind k in rows
     offsets[k] .. offsets[k + 1]); returns how many."""

@@ -33,7 +33,7 @@ from cognition.vision.rows import crossing_rows_nb, line_rows_nb, point_rows_nb
  A_N) = range(24)  # fmt: skip
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def assemble_nb(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -117,7 +117,7 @@ def assemble_nb(
     return rows, offsets, seg_px, seg_ground
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def circle_crossings_nb(
     cross: NDArray[np.float64],
     cx: float,

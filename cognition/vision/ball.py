@@ -241,7 +241,7 @@ def _describe(a: object) -> str:
 # ----------------------------------------------------------------------------- compiled core
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def camera_ok_nb(cam: NDArray[np.float64]) -> bool:  # pragma: no cover - compiled
     """The camera row is finite with positive focal lengths."""
     for k in range(cam.shape[0]):
@@ -250,7 +250,7 @@ def camera_ok_nb(cam: NDArray[np.float64]) -> bool:  # pragma: no cover - compil
     return cam[12] > 0.0 and cam[13] > 0.0
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _detect_ball_nb(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],

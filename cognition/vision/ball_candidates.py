@@ -68,7 +68,7 @@ _CU, _CV, _CR, _CX, _CY, _CS, _CE = 0, 1, 2, 3, 4, 5, 6
 _N_CAND = 7
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _refine(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],
@@ -123,7 +123,7 @@ def _refine(
     return True, u, v, e, rad, rms
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _candidates(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],
@@ -281,7 +281,7 @@ class _State:  # pragma: no cover - compiled
         return out[:n]
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _coarse_row(cam: NDArray[np.float64], w: int, h: int, ball_r: float, r_min: float) -> int:  # pragma: no cover
     """The first row from which a ball's radius is at least ``r_min`` px in every column (at the
     image's left, middle and right; R grows downward), or ``h``."""
@@ -297,7 +297,7 @@ def _coarse_row(cam: NDArray[np.float64], w: int, h: int, ball_r: float, r_min: 
     return hi
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _big(cam: NDArray[np.float64], w: int, v: float, ball_r: float, r_min: float) -> bool:  # pragma: no cover
     for u in (0.0, 0.5 * w, float(w)):
         r = _radius(cam, u, v, ball_r)
@@ -306,7 +306,7 @@ def _big(cam: NDArray[np.float64], w: int, v: float, ball_r: float, r_min: float
     return True
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _run_end_seeds(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],
@@ -361,7 +361,7 @@ def _run_end_seeds(
             _try_seed(rgb, classes, cam, ball_r, modern, prm, st, u, lo + rr)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _black_disc(classes: NDArray[np.uint8], u: float, v: float, r: float) -> bool:  # pragma: no cover - compiled
     """Modern: a BLACK pixel among the disc samples of radius r around (u, v) (a seed inside the
     ball, not necessarily at its centre, sees a patch; the class is darker than the patches'
@@ -375,7 +375,7 @@ def _black_disc(classes: NDArray[np.uint8], u: float, v: float, r: float) -> boo
     return False
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _black_near(classes: NDArray[np.uint8], i: int, v: float, r: float) -> bool:  # pragma: no cover - compiled
     """Modern: BLACK pixels (a ball's patches) on three rows across a disc of radius r centred
     at column ``i``, row ``v`` (every quarter radius)."""
@@ -391,7 +391,7 @@ def _black_near(classes: NDArray[np.uint8], i: int, v: float, r: float) -> bool:
     return False
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _dip(boundary: NDArray[np.int32], i: int, j: int, r: float) -> bool:  # pragma: no cover - compiled
     """The field boundary at column ``i`` (at row ``j``) lies at least r / 2 below the boundary
     2.5 r to both sides (or the image edge): something small stands in front of the hall there."""
@@ -402,7 +402,7 @@ def _dip(boundary: NDArray[np.int32], i: int, j: int, r: float) -> bool:  # prag
     return max(lo, hi) < j - 0.5 * r
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _try_seed(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],
@@ -444,7 +444,7 @@ def _try_seed(
     st.n_cand += 1
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _content(
     rgb: NDArray[np.uint8], classes: NDArray[np.uint8], u: float, v: float, r: float, modern: bool, dark_value: float
 ) -> tuple[int, float, float, float, int, float, float, float, float]:  # pragma: no cover - compiled
@@ -520,7 +520,7 @@ def _content(
     )  # fmt: skip
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _capped(
     rgb: NDArray[np.uint8], classes: NDArray[np.uint8], u: float, v: float, r: float
 ) -> bool:  # pragma: no cover - compiled
@@ -531,7 +531,7 @@ def _capped(
     return real or end <= 0.0
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _plausible(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],
@@ -548,7 +548,7 @@ def _plausible(
     return not modern or black >= 0.5 * prm[_MIN_BLACK]
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _verify(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],

@@ -42,7 +42,7 @@ def _is_ball(c: int, modern: bool) -> bool:  # pragma: no cover - compiled
     return c != GREEN if modern else c == ORANGE
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _string(classes: NDArray[np.uint8], i: int, j: int, di: int, dj: int) -> int:  # pragma: no cover - compiled
     """Classic: pixels to step from the non-ball pixel (i, j) in direction (di, dj) to the ORANGE
     pixel after it when (i, j) lies on a thin gap inside the ball (a string of a goal's net in
@@ -63,7 +63,7 @@ def _string(classes: NDArray[np.uint8], i: int, j: int, di: int, dj: int) -> int
     return 0
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _in_string(classes: NDArray[np.uint8], i: int, j: int) -> bool:  # pragma: no cover - compiled
     """Classic: the pixel (i, j), neither ORANGE nor GREEN, lies on a thin gap inside the ball (a
     net's string, noise; ORANGE within ``_STRING`` px on both sides, horizontally or vertically)."""
@@ -73,7 +73,7 @@ def _in_string(classes: NDArray[np.uint8], i: int, j: int) -> bool:  # pragma: n
     return False
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _stretch(cam: NDArray[np.float64], u: float, v: float) -> float:  # pragma: no cover - compiled
     """How much larger than on the optical axis a small sphere looks at pixel (u, v): its outline
     is an ellipse with semi-axes 1 / cos(t) and 1 / cos(t)^2 times the on-axis radius (t the
@@ -85,7 +85,7 @@ def _stretch(cam: NDArray[np.float64], u: float, v: float) -> float:  # pragma: 
     return 0.5 * (1.0 / c + 1.0 / c2)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _radius(cam: NDArray[np.float64], u: float, v: float, r: float) -> float:  # pragma: no cover - compiled
     """The outline radius (px) of a ball of radius ``r`` centred at pixel (u, v) (see
     :func:`_expected`; NaN at or above the horizon), in one short computation: the ray's
@@ -103,7 +103,7 @@ def _radius(cam: NDArray[np.float64], u: float, v: float, r: float) -> float:  #
     return 0.5 * (cam[12] + cam[13]) * r / math.sqrt(d2) * 0.5 * (math.sqrt(n2) + n2)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _expected(cam: NDArray[np.float64], u: float, v: float, r: float) -> tuple[float, float, float]:  # pragma: no cover
     """(image radius px of the outline, ground x, ground y) of a ball of radius ``r`` centred at
     pixel (u, v): the pinhole radius on the optical axis times :func:`_stretch`."""
@@ -116,7 +116,7 @@ def _expected(cam: NDArray[np.float64], u: float, v: float, r: float) -> tuple[f
     return f * r / math.sqrt(max(d2 - r * r, 1e-12)) * _stretch(cam, u, v), x, y
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _coverage(
     rgb: NDArray[np.uint8], j0: int, i0: int, j1: int, i1: int, j2: int, i2: int
 ) -> float:  # pragma: no cover
@@ -132,7 +132,7 @@ def _coverage(
     return min(1.0, max(0.0, (outer - bg) / (inner - bg)))
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _run_end(
     rgb: NDArray[np.uint8], classes: NDArray[np.uint8], i: int, j: int, di: int, dj: int, reach: int, modern: bool
 ) -> tuple[float, bool]:  # pragma: no cover - compiled
@@ -163,7 +163,7 @@ def _run_end(
     return float(pos + sg * reach) + (1.0 if sg > 0 else 0.0), False
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _chord(
     rgb: NDArray[np.uint8], classes: NDArray[np.uint8], u: float, v: float, horizontal: bool, reach: int, modern: bool
 ) -> tuple[float, float, bool, bool]:  # pragma: no cover - compiled
@@ -186,7 +186,7 @@ def _chord(
     return a, b, ra, rb
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _thin(classes: NDArray[np.uint8], u: float, v: float, r: float, modern: bool) -> bool:  # pragma: no cover
     """A diagonal chord through (u, v) with carpet at both ends is shorter than r: a slanted line,
     not a ball (every chord through a point near a disc's centre is longer than its radius).
@@ -217,7 +217,7 @@ def _thin(classes: NDArray[np.uint8], u: float, v: float, r: float, modern: bool
     return False
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _silhouette(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],
@@ -293,7 +293,7 @@ def _det3(a: float, b: float, c: float, d: float, e: float, f: float, g: float, 
     return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _fit_circle(
     pts: NDArray[np.float64], keep: NDArray[np.bool_], n: int, u0: float, v0: float, r: float, free: bool
 ) -> tuple[bool, float, float, float]:  # pragma: no cover - compiled
@@ -351,7 +351,7 @@ def _fit_circle(
     return True, cu, cv, r
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _inside(classes: NDArray[np.uint8], u: float, v: float, modern: bool) -> bool:  # pragma: no cover - compiled
     """The pixel at (u, v) may be a ball's centre: a ball pixel (classic: or YELLOW, the blend of
     orange with the carpet, or a net's string), or outside the image."""
@@ -363,7 +363,7 @@ def _inside(classes: NDArray[np.uint8], u: float, v: float, modern: bool) -> boo
     return _is_ball(c, modern) or (not modern and (c == YELLOW or _in_string(classes, i, j)))
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _inliers(pts: NDArray[np.float64], n: int, u: float, v: float, lo2: float, hi2: float) -> int:  # pragma: no cover
     """Points whose squared distance from (u, v) lies in [lo2, hi2]."""
     m = 0
@@ -374,7 +374,7 @@ def _inliers(pts: NDArray[np.float64], n: int, u: float, v: float, lo2: float, h
     return m
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _fit(
     rgb: NDArray[np.uint8],
     classes: NDArray[np.uint8],

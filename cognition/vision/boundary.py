@@ -40,7 +40,7 @@ _GROUP = 64
 """Columns scanned together, row by row (one cache line of the class image per row)."""
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _boundary(
     classes: NDArray[np.uint8], cam: NDArray[np.float64], run: int, out: NDArray[np.int32]
 ) -> None:  # pragma: no cover - compiled

@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from cognition.vision.projection import pixel_nb
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def ring_bounds_nb(radius: float, inlier: float) -> tuple[float, float]:  # pragma: no cover - compiled
     """Bounds on the squared distance from the centre (m^2) outside of which a point certainly
     lies farther than ``inlier`` from the circle: a cheap test before the exact one with
@@ -45,7 +45,7 @@ def ring_bounds_nb(radius: float, inlier: float) -> tuple[float, float]:  # prag
     return near2, far * far * (1.0 + 1e-9)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _refine(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlier: float) -> tuple:  # pragma: no cover
     """Gauss-Newton on the centre with the radius fixed; returns (cx, cy, inlier count)."""
     near2, far2 = ring_bounds_nb(radius, inlier)
@@ -82,7 +82,7 @@ def _refine(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlie
     return cx, cy, n_in
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _span(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlier: float) -> float:  # pragma: no cover
     """Angle (rad) of the circle covered by the inliers: 2 pi minus the largest empty gap."""
     angles = np.empty(pts.shape[0])
@@ -103,7 +103,7 @@ def _span(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlier:
     return 2.0 * math.pi - gap
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def find_circle_nb(
     pts: NDArray[np.float64],
     radius: float,
@@ -166,7 +166,7 @@ def find_circle_nb(
     return cx, cy, n_in, span
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def verify_circle_nb(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],

@@ -236,7 +236,7 @@ class ColourClassifier:
         return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _hsv(r: float, g: float, b: float) -> tuple[float, float, float]:  # pragma: no cover - compiled
     """OpenCV 8-bit HSV of an RGB colour: hue 0..180 (degrees / 2), saturation and value 0..255."""
     mx = max(r, g, b)
@@ -256,7 +256,7 @@ def _hsv(r: float, g: float, b: float) -> tuple[float, float, float]:  # pragma:
     return 0.5 * h, s, mx
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _in_hue(h: float, lo: float, hi: float) -> bool:  # pragma: no cover - compiled
     """Hue inside [lo, hi], wrapping past 180 when lo > hi."""
     if lo <= hi:
@@ -264,7 +264,7 @@ def _in_hue(h: float, lo: float, hi: float) -> bool:  # pragma: no cover - compi
     return h >= lo or h <= hi
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _class_of(h: float, s: float, v: float, t: NDArray[np.float64]) -> int:  # pragma: no cover - compiled
     """The colour class of one HSV colour under thresholds ``t`` (layout of ``thresholds``)."""
     in_green = _in_hue(h, t[0], t[1])
@@ -288,7 +288,7 @@ def _class_of(h: float, s: float, v: float, t: NDArray[np.float64]) -> int:  # p
     return 0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _build_lut(t: NDArray[np.float64], table: NDArray[np.uint8]) -> None:  # pragma: no cover - compiled
     for r in range(32):
         for g in range(32):
@@ -301,7 +301,7 @@ _CHUNK = 256
 """Pixels classified per pass of :func:`_classify` (their table indices fit the first-level cache)."""
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _classify(rgb: NDArray[np.uint8], table: NDArray[np.uint8], out: NDArray[np.uint8]) -> None:  # pragma: no cover
     """``out`` (H x W) = ``table`` at the quantized colour of each pixel of ``rgb`` (H x W x 3);
     both C-contiguous, walked as flat arrays. Chunk by chunk, the table indices are computed
@@ -322,7 +322,7 @@ def _classify(rgb: NDArray[np.uint8], table: NDArray[np.uint8], out: NDArray[np.
             p[k] = table[idx[k]]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _median_of_histogram(hist: NDArray[np.int64], n: int) -> float:  # pragma: no cover - compiled
     """The median bin of a histogram holding ``n`` counts (the lower median for even ``n``)."""
     half = (n + 1) // 2
@@ -334,7 +334,7 @@ def _median_of_histogram(hist: NDArray[np.int64], n: int) -> float:  # pragma: n
     return float(hist.shape[0] - 1)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _carpet_median(
     rgb: NDArray[np.uint8], cam: NDArray[np.float64], step: int, lo: float, hi: float, min_sat: float
 ) -> tuple[float, float, float, int]:  # pragma: no cover - compiled

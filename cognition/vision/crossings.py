@@ -53,7 +53,7 @@ GREEN, WHITE = 1, 2
 _THROUGH, _END, _OFF, _UNKNOWN = 2, 0, -1, -2
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _wrap(a: float) -> float:  # pragma: no cover - compiled
     a = (a + math.pi) % (2.0 * math.pi)
     if a <= 0.0:
@@ -61,7 +61,7 @@ def _wrap(a: float) -> float:  # pragma: no cover - compiled
     return a - math.pi
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def merge_collinear_nb(
     seg: NDArray[np.float64],
     open_ends: NDArray[np.bool_],
@@ -131,7 +131,7 @@ def merge_collinear_nb(
     return lines, opn[:m].copy()
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def look_nb(
     classes: NDArray[np.uint8], boundary: NDArray[np.int32], cam: NDArray[np.float64], x: float, y: float
 ) -> int:  # pragma: no cover - compiled
@@ -153,7 +153,7 @@ def look_nb(
     return 0 if c == GREEN else -1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _continues(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -183,7 +183,7 @@ def _continues(
     return -1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _white_gap(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -209,7 +209,7 @@ def _white_gap(
     return seen > 0 and white >= 0.6 * seen
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _position(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -258,7 +258,7 @@ def _position(
     return _UNKNOWN
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def crossings_nb(
     seg: NDArray[np.float64],
     open_ends: NDArray[np.bool_],

@@ -27,7 +27,7 @@ from cognition.vision.scanlines import line_points_nb
 from cognition.vision.segments import segments_nb
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def ground_points_nb(
     cam: NDArray[np.float64], uv: NDArray[np.float64], max_distance: float
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:  # pragma: no cover - compiled
@@ -44,7 +44,7 @@ def ground_points_nb(
     return out, ok
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def centre_circle_nb(
     ground: NDArray[np.float64],
     valid: NDArray[np.bool_],
@@ -84,7 +84,7 @@ def centre_circle_nb(
     return cx, cy, on
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def arcs_nb(
     ground: NDArray[np.float64], labels: NDArray[np.int64], n_seg: int, radius: float
 ) -> NDArray[np.bool_]:  # pragma: no cover - compiled
@@ -144,7 +144,7 @@ def arcs_nb(
     return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def dnt_lines_nb(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],

@@ -25,7 +25,7 @@ from cognition.vision.projection import ground_nb, pixel_nb
 GREEN, WHITE = 1, 2
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def follow_white_nb(
     classes: NDArray[np.uint8], u: float, v: float, du: float, dv: float, steps: int
 ) -> tuple[float, float]:  # pragma: no cover - compiled
@@ -51,7 +51,7 @@ def follow_white_nb(
     return last_u, last_v
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _is_open(
     classes: NDArray[np.uint8], boundary: NDArray[np.int32], eu: float, ev: float, du: float, dv: float, probe: int
 ) -> bool:  # pragma: no cover - compiled
@@ -72,7 +72,7 @@ def _is_open(
     return False
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _reach(x1: float, y1: float, x2: float, y2: float, r: float) -> float:  # pragma: no cover - compiled
     """The fraction t in [0, 1] of the way from (x1, y1) (within ``r`` of the origin) to (x2, y2)
     (beyond it) where the segment leaves the circle of radius ``r``."""
@@ -84,7 +84,7 @@ def _reach(x1: float, y1: float, x2: float, y2: float, r: float) -> float:  # pr
     return min(1.0, max(0.0, (-b + math.sqrt(disc)) / (2.0 * a))) if a > 0.0 else 0.0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def segments_on_ground_nb(
     cam: NDArray[np.float64],
     seg: NDArray[np.float64],

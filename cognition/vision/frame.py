@@ -117,7 +117,7 @@ def frame_config(
     return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def frame_nb(
     rgb: NDArray[np.uint8],
     cam: NDArray[np.float64],

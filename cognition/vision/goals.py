@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from cognition.vision.projection import pixel_nb
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def goal_lines_nb(
     posts: NDArray[np.float64], seg_ground: NDArray[np.float64], goal_width: float
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
@@ -80,7 +80,7 @@ def goal_lines_nb(
     return out[:g]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def cut_behind_nb(
     seg_px: NDArray[np.float64],
     seg_ground: NDArray[np.float64],
@@ -120,7 +120,7 @@ def cut_behind_nb(
     return px[keep], gr[keep], op[keep]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def clear_of_posts_nb(
     cross: NDArray[np.float64], posts: NDArray[np.float64], clearance: float
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
@@ -135,7 +135,7 @@ def clear_of_posts_nb(
     return cross[keep]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def not_under_posts_nb(
     cross: NDArray[np.float64],
     classes: NDArray[np.uint8],

@@ -320,7 +320,7 @@ def _config(params: HoughParams, width: int) -> NDArray[np.float64]:
     return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _hough_nb(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],

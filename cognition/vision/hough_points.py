@@ -76,7 +76,7 @@ _J00, _J01, _J10, _J11 = 10, 11, 12, 13  # ground step (m) per pixel: dx/du, dx/
 _N_PT = 14
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _detect(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -192,7 +192,7 @@ def _detect(
     return True
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _candidate(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -230,7 +230,7 @@ def _candidate(
     )  # fmt: skip
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _line_points(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -309,14 +309,14 @@ _KERNEL_ERROR = 10.0 * _DEG
 """How far off the kernels' interpolated image direction may be (4 orientations)."""
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _angle_diff(a: float, b: float) -> float:  # pragma: no cover - compiled
     """Difference of two directions modulo pi, in [0, pi/2]."""
     d = abs(a - b) % math.pi
     return min(d, math.pi - d)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _merge(
     pts: NDArray[np.float64],
     cam: NDArray[np.float64],

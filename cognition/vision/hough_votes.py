@@ -48,7 +48,7 @@ from cognition.vision.projection import pixel_nb
 # -- 3. centre circle ------------------------------------------------------------------------
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _on_ring(
     x: float, y: float, phi: float, cx: float, cy: float, radius: float, inlier: float, tangent: float
 ) -> bool:  # pragma: no cover - compiled
@@ -60,7 +60,7 @@ def _on_ring(
     return _angle_diff(phi, math.atan2(dy, dx) + 0.5 * math.pi) <= tangent
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _circle(
     segs: NDArray[np.float64],
     radius: float,
@@ -145,7 +145,7 @@ def _circle(
 # -- 4. Hough transform ----------------------------------------------------------------------
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _vote(
     acc: NDArray[np.float64],
     x: float,
@@ -175,7 +175,7 @@ def _vote(
             acc[row, j + 1] += weight * frac
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _support(
     pts: NDArray[np.float64],
     free: NDArray[np.bool_],
@@ -209,7 +209,7 @@ def _support(
     return m
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _fit(
     pts: NDArray[np.float64], idx: NDArray[np.int64], m: int, pixels: float, distance: float
 ) -> tuple:  # pragma: no cover
@@ -242,7 +242,7 @@ def _fit(
     return nx, ny, mx * nx + my * ny
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _clip(
     px: NDArray[np.float64],
     ground: NDArray[np.float64],
@@ -283,7 +283,7 @@ def _clip(
     return px[keep], ground[keep], open_ends[keep]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _wrapped(acc: NDArray[np.float64], i: int, j: int) -> tuple[int, int]:  # pragma: no cover - compiled
     """Row and column of bin (i, j) for any angle index ``i`` (theta + pi: the same line, rho negated)."""
     n_theta, n_rho = acc.shape
@@ -292,7 +292,7 @@ def _wrapped(acc: NDArray[np.float64], i: int, j: int) -> tuple[int, int]:  # pr
     return i, j
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _strip(acc: NDArray[np.float64], first: int, out: NDArray[np.float64]) -> None:  # pragma: no cover - compiled
     """Copy the accumulator rows ``first, first + 1, ...`` (any angle indices) into ``out``."""
     n_theta = acc.shape[0]
@@ -304,7 +304,7 @@ def _strip(acc: NDArray[np.float64], first: int, out: NDArray[np.float64]) -> No
             out[r, :] = acc[i % n_theta, ::-1]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _peak(strip: NDArray[np.float64]) -> tuple[float, int, int]:  # pragma: no cover - compiled
     """The largest 3 x 3 sum of the strip's inner rows: (sum, row, column)."""
     rows, n_rho = strip.shape

@@ -55,7 +55,7 @@ def check_camera(camera: object) -> NDArray[np.float64]:
     return np.ascontiguousarray(row)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _fill_row_nb(
     rot: NDArray[np.float64],
     pos: NDArray[np.float64],

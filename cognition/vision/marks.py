@@ -24,7 +24,7 @@ from cognition.vision.projection import ground_nb, metres_per_pixel_nb
 GREEN, WHITE, BLACK = 1, 2, 3
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def marks_nb(
     classes: NDArray[np.uint8],
     pts: NDArray[np.float64],
@@ -100,7 +100,7 @@ def marks_nb(
     return out[:n]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def loose_points_nb(
     pts: NDArray[np.float64],
     seg_px: NDArray[np.float64],

@@ -321,7 +321,7 @@ def _describe(a: object) -> str:
 # -- compiled driver --------------------------------------------------------------------------
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _posts_nb(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],

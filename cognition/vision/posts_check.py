@@ -53,7 +53,7 @@ _Check = tuple[int, float, float, float, float, float, float, float, int, int, f
 """What :func:`_check_axis` returns."""
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _row_run(
     classes: NDArray[np.uint8], g0: int, g1: int, u: float, j: int, cap: int
 ) -> tuple[int, int]:  # pragma: no cover - compiled
@@ -61,7 +61,7 @@ def _row_run(
     return _row_span(classes, g0, g1, u, j, cap, False)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _row_span(
     classes: NDArray[np.uint8], g0: int, g1: int, u: float, j: int, cap: int, bridge: bool
 ) -> tuple[int, int]:  # pragma: no cover - compiled
@@ -97,7 +97,7 @@ def _row_span(
     return a, e
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _row_widths(
     classes: NDArray[np.uint8], g0: int, g1: int, ub: float, vb: float, ut: float, vt: float, last: float, cap: int
 ) -> float:  # pragma: no cover - compiled
@@ -114,7 +114,7 @@ def _row_widths(
     return float(np.median(widths[:k]))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _clear_widths(
     classes: NDArray[np.uint8], g: int, ub: float, vb: float, ut: float, vt: float, last: float, half: float, cap: int
 ) -> tuple[int, float, float]:  # pragma: no cover - compiled
@@ -146,7 +146,7 @@ def _clear_widths(
     return n, float(np.median(widths)), float(widths.max())
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _band_fill(
     classes: NDArray[np.uint8], g0: int, g1: int, ub: float, vb: float, ut: float, vt: float, last: int, band: float
 ) -> tuple[float, float]:  # pragma: no cover - compiled
@@ -176,7 +176,7 @@ def _band_fill(
     return hits.sum() / total, lo
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _crossbar(
     classes: NDArray[np.uint8], g0: int, g1: int, u: float, v: float, side: int, thick: float, steps: int
 ) -> tuple[int, bool, bool]:  # pragma: no cover - compiled
@@ -218,7 +218,7 @@ def _crossbar(
     return steps, False, below > 0.6 * steps
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _check_axis(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],
@@ -263,7 +263,7 @@ def _check_axis(
     return res
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _post_bottom(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],
@@ -300,7 +300,7 @@ def _post_bottom(
     return vb
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _post_shape(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],
@@ -377,7 +377,7 @@ def _post_shape(
     return along
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _check_at(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],
@@ -453,7 +453,7 @@ def _check_at(
     return code, bf, share, vb, xc, yc, ut, vt, n0, n1, float(last), col_min
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _search(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],
@@ -496,7 +496,7 @@ def _search(
     return _check_axis(classes, cam, feet, g0, g1, uc, uc, i0, i1, r, goal_h, prm), uc
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _candidate(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],
@@ -550,7 +550,7 @@ def _candidate(
     return res, uc, w_exp, searched
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _split(
     cam: NDArray[np.float64], feet: NDArray[np.float64], a: int, e: int, r: float, goal_h: float, jump: float
 ) -> NDArray[np.int64]:  # pragma: no cover - compiled

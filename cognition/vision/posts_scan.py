@@ -37,12 +37,12 @@ _SAMPLES = 24
 walked pixel by pixel)."""
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _is_goal(c: int, g0: int, g1: int) -> bool:  # pragma: no cover - compiled
     return c in (g0, g1)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _post_at(
     cam: NDArray[np.float64], u: float, v: float, r: float, goal_h: float
 ) -> tuple[bool, float, float, float, float, float]:  # pragma: no cover - compiled
@@ -78,7 +78,7 @@ def _post_at(
     return True, xc, yc, ut, vt, abs(ub - ua)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _axis_run(
     classes: NDArray[np.uint8],
     g0: int,
@@ -138,7 +138,7 @@ def _axis_run(
     return n0 + n1 >= fill * total - 1.0, last, n0, n1, ended
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _foot(
     classes: NDArray[np.uint8],
     u: int,
@@ -175,7 +175,7 @@ def _foot(
     return -1, -1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _median_feet(feet: NDArray[np.float64], lo: int, hi: int) -> float:  # pragma: no cover - compiled
     """The foot row of a post over the candidate columns lo..hi: the 30th percentile of their
     feet (-1 if none). Not the median: columns over a line seen along its length under the
@@ -191,7 +191,7 @@ def _median_feet(feet: NDArray[np.float64], lo: int, hi: int) -> float:  # pragm
     return float(np.sort(vals[:k])[int(0.3 * (k - 1) + 0.5)])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _visible_top(ub: float, vb: float, ut: float, vt: float, width: int) -> float:  # pragma: no cover - compiled
     """Row where the axis from the foot (ub, vb) to the top (ut, vt) ends or leaves the image."""
     top = max(vt, 0.0)
@@ -204,7 +204,7 @@ def _visible_top(ub: float, vb: float, ut: float, vt: float, width: int) -> floa
     return top
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _column(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],
@@ -248,7 +248,7 @@ def _column(
     return -1.0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _columns(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -291,7 +291,7 @@ def _columns(
     return cand, feet
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _intervals(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def ray_nb(cam: NDArray[np.float64], u: float, v: float) -> tuple[float, float, float]:  # pragma: no cover
     """Robot-frame direction (not normalised) of the viewing ray through pixel (u, v)."""
     a = 1.0
@@ -39,7 +39,7 @@ def ray_nb(cam: NDArray[np.float64], u: float, v: float) -> tuple[float, float, 
     )
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def ground_nb(cam: NDArray[np.float64], u: float, v: float, z: float) -> tuple[float, float, bool]:  # pragma: no cover
     """Robot-frame (x, y) where the ray through (u, v) meets the plane at height ``z`` (m)."""
     dx, dy, dz = ray_nb(cam, u, v)
@@ -51,7 +51,7 @@ def ground_nb(cam: NDArray[np.float64], u: float, v: float, z: float) -> tuple[f
     return cam[9] + dx * t, cam[10] + dy * t, True
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def pixel_nb(cam: NDArray[np.float64], x: float, y: float, z: float) -> tuple[float, float, bool]:  # pragma: no cover
     """Pixel (u, v) of the robot-frame point (x, y, z); ``False`` when it is behind the camera."""
     px, py, pz = x - cam[9], y - cam[10], z - cam[11]
@@ -63,7 +63,7 @@ def pixel_nb(cam: NDArray[np.float64], x: float, y: float, z: float) -> tuple[fl
     return cam[14] - cam[12] * qy / qx, cam[15] - cam[13] * qz / qx, True
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def metres_per_pixel_nb(cam: NDArray[np.float64], u: float, v: float) -> tuple[float, float]:  # pragma: no cover
     """Ground size of one pixel at (u, v): along the image column and along the row (m).
 
@@ -94,7 +94,7 @@ def sigmas(
     return sa, sb
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def horizon_row_nb(cam: NDArray[np.float64], u: float) -> float:  # pragma: no cover - compiled
     """Row of the horizon at column ``u`` (-inf when the camera looks upside down or straight down)."""
     r20, r21, r22 = cam[6], cam[7], cam[8]

@@ -177,7 +177,7 @@ def detect_robots(
 # ----------------------------------------------------------------------------- compiled core
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _detect_robots_nb(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -200,7 +200,7 @@ def _detect_robots_nb(
     return rows, 0
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _dip(
     cam: NDArray[np.float64], boundary: NDArray[np.int32], c: int, i0: int, step: int, radius: float, dip: float
 ) -> bool:  # pragma: no cover - compiled
@@ -225,7 +225,7 @@ def _dip(
     return b - left > need and b - right > need
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _jersey_fits(
     cam: NDArray[np.float64], u: float, v: float, top: int, bottom: int, white: int
 ) -> bool:  # pragma: no cover - compiled
@@ -246,7 +246,7 @@ def _jersey_fits(
     return ok3 and abs(bottom - v_lo) <= tol and top >= v_hi - tol and abs(white - v_ankle) <= tol + 2.0
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _height_px(cam: NDArray[np.float64], u: float, v: float, z: float) -> float:  # pragma: no cover - compiled
     """Image height (px) of a vertical stick of height z (m) standing on the ground at pixel (u, v)."""
     x, y, ok = ground_nb(cam, u, v, 0.0)
@@ -258,7 +258,7 @@ def _height_px(cam: NDArray[np.float64], u: float, v: float, z: float) -> float:
     return v - vt
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _width_px(cam: NDArray[np.float64], u: float, v: float, width: float) -> float:  # pragma: no cover - compiled
     """Image width (px) of an object ``width`` m wide whose front stands on the ground at (u, v)."""
     x, y, ok = ground_nb(cam, u, v, 0.0)
@@ -269,7 +269,7 @@ def _width_px(cam: NDArray[np.float64], u: float, v: float, width: float) -> flo
     return 0.5 * (cam[12] + cam[13]) * width / max(d, 1e-6)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _robots(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],
@@ -421,7 +421,7 @@ def _robots(
     return res
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _edge_scan(
     classes: NDArray[np.uint8], j: int, i: int, di: int, reach: int
 ) -> tuple[float, bool]:  # pragma: no cover - compiled
@@ -440,7 +440,7 @@ def _edge_scan(
     return float(i + di * reach) + (1.0 if di > 0 else 0.0), False
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
 def _look(
     classes: NDArray[np.uint8],
     cam: NDArray[np.float64],

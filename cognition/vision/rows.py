@@ -25,7 +25,7 @@ _VXX, _VXY, _VYY = int(Col.VAR_XX), int(Col.VAR_XY), int(Col.VAR_YY)
 _SA, _SB = int(Col.SIGMA_ALPHA), int(Col.SIGMA_BETA)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _blank(out: NDArray[np.float64], k: int, sa: float, sb: float) -> None:  # pragma: no cover - compiled
     for c in range(out.shape[1]):
         out[k, c] = math.nan
@@ -36,7 +36,7 @@ def _blank(out: NDArray[np.float64], k: int, sa: float, sb: float) -> None:  # p
     out[k, _SB] = sb
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def point_rows_nb(
     xy: NDArray[np.float64],
     uv: NDArray[np.float64],
@@ -63,7 +63,7 @@ def point_rows_nb(
     return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def line_rows_nb(
     seg_px: NDArray[np.float64], seg_ground: NDArray[np.float64], cam: NDArray[np.float64], sa: float, sb: float
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
@@ -87,7 +87,7 @@ def line_rows_nb(
     return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def crossing_rows_nb(
     cross: NDArray[np.float64], cam: NDArray[np.float64], sa: float, sb: float
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled

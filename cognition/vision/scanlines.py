@@ -27,7 +27,7 @@ WHITE = 2
 GREEN = 1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _green_within(classes: NDArray[np.uint8], j: int, i: int, dj: int, di: int, gap: int) -> bool:  # pragma: no cover
     """True if a green pixel lies within ``gap`` steps of (j, i) in direction (dj, di), before any white."""
     height, width = classes.shape
@@ -43,7 +43,7 @@ def _green_within(classes: NDArray[np.uint8], j: int, i: int, dj: int, di: int, 
     return False
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _accept(
     cam: NDArray[np.float64], u: float, v: float, run: int, vertical: bool, width: float, blur: float
 ) -> bool:  # pragma: no cover
@@ -61,7 +61,7 @@ _HIGHS = np.uint64(0x8080808080808080)
 _WHITES = np.uint64(WHITE * 0x0101010101010101)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _next_white(line: NDArray[np.uint8], words: NDArray[np.uint64], k: int, end: int) -> int:  # pragma: no cover
     """The first index in [k, end) where ``line`` is WHITE, else ``end``. ``words`` is ``line``
     seen as 64-bit words: at a word boundary, eight pixels without WHITE are skipped at once (a
@@ -78,7 +78,7 @@ def _next_white(line: NDArray[np.uint8], words: NDArray[np.uint64], k: int, end:
     return end
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def line_points_nb(
     classes: NDArray[np.uint8],
     boundary: NDArray[np.int32],

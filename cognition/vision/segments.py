@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 WHITE = 2
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def white_ratio_nb(
     classes: NDArray[np.uint8], u0: float, v0: float, u1: float, v1: float, at_least: float = 0.0, above: float = -1.0
 ) -> float:  # pragma: no cover
@@ -71,7 +71,7 @@ def white_ratio_nb(
     return white / (n + 1)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _scatter_error(sums: NDArray[np.float64], x: float, y: float) -> float:  # pragma: no cover - compiled
     """Sum of squared distances from their least-squares line of the points in ``sums`` plus (x, y).
 
@@ -87,7 +87,7 @@ def _scatter_error(sums: NDArray[np.float64], x: float, y: float) -> float:  # p
     return max(0.0, half - math.sqrt(max(0.0, 0.25 * (cxx - cyy) ** 2 + cxy * cxy)))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _line_of(sums: NDArray[np.float64]) -> tuple[float, float, float, float]:  # pragma: no cover - compiled
     """The least-squares line of the points in ``sums``: its centroid (mx, my) and the sine and
     cosine of its direction (all 0 below 3 points: then no point counts as off the line)."""
@@ -102,7 +102,7 @@ def _line_of(sums: NDArray[np.float64]) -> tuple[float, float, float, float]:  #
     return mx, my, math.sin(theta), math.cos(theta)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _add(sums: NDArray[np.float64], x: float, y: float) -> None:  # pragma: no cover - compiled
     sums[0] += 1.0
     sums[1] += x
@@ -112,7 +112,7 @@ def _add(sums: NDArray[np.float64], x: float, y: float) -> None:  # pragma: no c
     sums[5] += y * y
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def grid_nb(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  # pragma: no cover
     """Bucket the points (columns 0, 1: their coordinates) into a gw x gh grid of ``cell``-sized
     cells (CSR: start offsets per cell and the point order)."""
@@ -134,7 +134,7 @@ def grid_nb(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  
     return count, order
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _extend(
     pts: NDArray[np.float64],
     classes: NDArray[np.uint8],
@@ -212,7 +212,7 @@ def _extend(
     return choice
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _fit(
     pts: NDArray[np.float64], first: NDArray[np.int64], second: NDArray[np.int64], out: NDArray[np.float64]
 ) -> float:  # pragma: no cover - compiled
@@ -255,7 +255,7 @@ def _fit(
     return math.sqrt(r2 / n)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def segments_nb(
     pts: NDArray[np.float64],
     classes: NDArray[np.uint8],
@@ -377,20 +377,20 @@ def segments_nb(
     return out, labels
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _direction(a: NDArray[np.float64]) -> float:  # pragma: no cover - compiled
     """Direction (rad) of the segment ``a`` (u1, v1, u2, v2) from its first end to its second."""
     return math.atan2(a[3] - a[1], a[2] - a[0])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _collinear(ta: float, tb: float, max_angle: float) -> bool:  # pragma: no cover - compiled
     """Directions ``ta`` and ``tb`` (rad) differ by at most ``max_angle`` as undirected lines."""
     d = abs(ta - tb) % math.pi
     return min(d, math.pi - d) <= max_angle
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _connected(
     classes: NDArray[np.uint8], a: NDArray[np.float64], b: NDArray[np.float64], gap: float, min_white: float
 ) -> bool:  # pragma: no cover

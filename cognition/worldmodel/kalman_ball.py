@@ -98,7 +98,7 @@ class KalmanBallParams:
         check_choice("KalmanBallParams", "sigma_mode", self.sigma_mode, SIGMA_MODES)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _mul(a, b, out):  # pragma: no cover - compiled
     """out = a b for small dense matrices (no BLAS needed)."""
     for i in range(a.shape[0]):
@@ -109,7 +109,7 @@ def _mul(a, b, out):  # pragma: no cover - compiled
             out[i, j] = acc
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _sandwich(g, p):  # pragma: no cover - compiled
     """g p g^T."""
     t = np.empty((g.shape[0], p.shape[1]))
@@ -119,7 +119,7 @@ def _sandwich(g, p):  # pragma: no cover - compiled
     return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _inverse(a):  # pragma: no cover - compiled
     """Inverse of a small symmetric positive-definite matrix (Gauss-Jordan, partial pivoting)."""
     n = a.shape[0]
@@ -147,7 +147,7 @@ def _inverse(a):  # pragma: no cover - compiled
     return inv
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _predict_nb(x, p, dt, deceleration, accel_sigma):  # pragma: no cover - compiled
     speed = math.sqrt(x[2] * x[2] + x[3] * x[3])
     new_speed = max(0.0, speed - deceleration * dt)
@@ -169,7 +169,7 @@ def _predict_nb(x, p, dt, deceleration, accel_sigma):  # pragma: no cover - comp
     return xo, po
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _move_nb(x, p, dx, dy, dtheta):  # pragma: no cover - compiled
     c, s = math.cos(dtheta), math.sin(dtheta)
     g = np.zeros((4, 4))
@@ -181,7 +181,7 @@ def _move_nb(x, p, dx, dy, dtheta):  # pragma: no cover - compiled
     return xo, _sandwich(g, p)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _update_nb(x, p, z, r):  # pragma: no cover - compiled
     m = z.shape[0]
     s = p[:m, :m] + r  # H p H^T + R with H = [I 0] (m = 2) or I (m = 4)
@@ -218,7 +218,7 @@ def move_robot(
     return _move_nb(x, p, float(dx), float(dy), float(dtheta))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _camera_nb(bx, by, height, sigma_alpha, sigma_beta, size_distance, size_sigma):  # pragma: no cover
     d_p = max(math.sqrt(bx * bx + by * by), 1e-3)
     beta = math.atan2(by, bx)
@@ -281,7 +281,7 @@ def size_distance(radius_px: float, focal_px: float, ball_radius: float, height:
     return _size_nb(float(radius_px), float(focal_px), float(ball_radius), float(height))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _size_nb(radius_px, focal_px, ball_radius, height):  # pragma: no cover - compiled
     if not radius_px > 0.0:
         return math.nan, math.inf
@@ -291,14 +291,14 @@ def _size_nb(radius_px, focal_px, ball_radius, height):  # pragma: no cover - co
     return d, sd_big * big_d / d
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def predict_move_nb(x, p, dt, deceleration, accel_sigma, dx, dy, dtheta):  # pragma: no cover - compiled
     """:func:`predict` then :func:`move_robot` in one call."""
     x1, p1 = _predict_nb(x, p, dt, deceleration, accel_sigma)
     return _move_nb(x1, p1, dx, dy, dtheta)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def measure_rows_nb(
     rows, foot_x, foot_y, height, focal, ball_radius, fixed_sigma, size_sigma_px, use_prediction, pred_x, pred_y
 ):  # pragma: no cover - compiled
@@ -330,7 +330,7 @@ def measure_rows_nb(
     return zs, rs
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def gated_update_nb(x, p, zs, rs, gate):  # pragma: no cover - compiled
     """Update with the measurement (of ``zs``, ``rs``) nearest to the prediction by Mahalanobis
     distance, if that distance squared is at most ``gate``. Returns (x, p, updated, best index)."""
@@ -347,7 +347,7 @@ def gated_update_nb(x, p, zs, rs, gate):  # pragma: no cover - compiled
     return xo, po, True, best
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _start_nb(x, p, z, r, velocity_var):  # pragma: no cover - compiled
     """A new state at measurement ``z`` (2) with covariance ``r`` (2 x 2), at rest with
     velocity variance ``velocity_var``, into ``x`` and ``p``."""
@@ -361,7 +361,7 @@ def _start_nb(x, p, z, r, velocity_var):  # pragma: no cover - compiled
     p[2, 2] = p[3, 3] = velocity_var
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def own_frame_nb(
     x,
     p,

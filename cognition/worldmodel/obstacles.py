@@ -214,7 +214,7 @@ _NO_ROBOTS = np.zeros((0, len(Col)))
 _CX, _CY = int(Col.X), int(Col.Y)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _sector_set(distance, stamp, x, y, t):  # pragma: no cover - compiled
     """Put the obstacle point (x, y) (robot frame, m) seen at ``t`` into its sector: the nearer
     or the newer of it and the sector's point wins."""
@@ -224,7 +224,7 @@ def _sector_set(distance, stamp, x, y, t):  # pragma: no cover - compiled
         distance[k], stamp[k] = d, t
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _sectors_update_nb(distance, stamp, time, memory, dx, dy, dth, robots, cx, cy):  # pragma: no cover - compiled
     """One frame of :class:`ObstacleSectors` in place: move the remembered points by the
     odometry (dx, dy m, dth rad: the robot's motion in its old frame), drop those older than
@@ -249,7 +249,7 @@ def _sectors_update_nb(distance, stamp, time, memory, dx, dy, dth, robots, cx, c
         _sector_set(distance, stamp, robots[r, cx], robots[r, cy], time)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _sector_points_nb(distance):  # pragma: no cover - compiled
     """Obstacle points (K x 2, robot frame, m) of the sectors that hold one."""
     step = 2 * math.pi / SECTORS
