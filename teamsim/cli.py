@@ -17,6 +17,10 @@ scenario       list or run scenarios: kidnapping, penalties, ... (registered by
 compare        compare localization variants over paired seeds (the same way)
 =============  ==================================================================
 
+``teamsim match`` draws a live progress line on stderr while it plays (game clock, score,
+real-time factor; :mod:`teamsim.progress`) when stderr is a terminal, and nothing when it is
+piped or with ``--quiet``; the line is removed before the summary is printed.
+
 ``teamsim match --gc-broadcast`` / ``--gc-listen`` put the match on the SPL GameController's UDP
 protocols, paced to real time (:mod:`teamsim.gc_bridge`): it broadcasts its game state, the
 robots' status and their team messages, or an external GameController referees it.
@@ -68,6 +72,7 @@ from teamsim.gc_bridge import GameControllerBridge
 from teamsim.image_params import ImageParams
 from teamsim.match import MAX_PLAYERS_PER_TEAM, OBSERVATIONS, PLAYERS, Match, MatchConfig
 from teamsim.percept_params import PerceptParams
+from teamsim.progress import MatchProgress
 
 IMAGE_SIDE_PX = (16, 4096)
 """Smallest and largest image width or height (px) that ``--size`` accepts."""
@@ -205,6 +210,11 @@ def _match_parser(sub: Any) -> None:
         help="delete the results of an earlier run in --out (config.json, events.jsonl, summary.json) first",
     )
     p.add_argument("--events", action="store_true", help="also print the event log")
+    p.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no live progress line (it is drawn on stderr only when stderr is a terminal)",
+    )
     add_gc_arguments(p)
 
 
@@ -471,14 +481,22 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
                     with contextlib.suppress(Exception):
                         video.close()
 
-        if gc is None:
-            summary = match.run(on_step=on_step)
-        else:
-            with GameControllerBridge(match, gc, warn=warn) as bridge:
-                print(f"GameController {gc.mode} on {gc.host}:{bridge.port}, real time (Ctrl-C stops)", file=out)
-                out.flush()
-                summary = bridge.run(on_step=on_step)
-            interrupted = bridge.interrupted
+        with MatchProgress(match, enabled=False if args.quiet else None) as progress:
+            video_step = on_step
+
+            def step(m: Match) -> None:
+                progress.update(m)
+                if video_step is not None:
+                    video_step(m)
+
+            if gc is None:
+                summary = match.run(on_step=step)
+            else:
+                with GameControllerBridge(match, gc, warn=warn) as bridge:
+                    print(f"GameController {gc.mode} on {gc.host}:{bridge.port}, real time (Ctrl-C stops)", file=out)
+                    out.flush()
+                    summary = bridge.run(on_step=step)
+                interrupted = bridge.interrupted
     finally:
         if writer is not None:
             try:
