@@ -16,6 +16,10 @@ maturing   candidate poses from single observations mature before they replace  
 odometry   dead reckoning from the last known placement                                baseline
 oracle     the true pose (needs ground truth; for baselines)                           baseline
 =========  ==========================================================================  ===========
+
+Each particle variant is a resampling draw and an injection strategy, one file per paper
+algorithm (:mod:`cognition.localization.strategy` lists them; ``ParticleFilter(...,
+resampling=..., injection=...)`` composes others).
 """
 
 from __future__ import annotations

@@ -351,53 +351,6 @@ def normalise_nb(logw, n, w):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def resample_nb(
-    parts, n, w, logw, out, m, low_variance, jit_xy, jit_th, m_inj, slots, state
-):  # pragma: no cover - compiled
-    """Draw ``m`` particles from particles [0, n) with normalised weights ``w`` into ``out``,
-    then make the weights of [0, m) uniform (``logw`` 0, ``w`` 1 / m) and, with ``m_inj`` > 0,
-    choose the slots of the poses to inject: ``slots[:m_inj]`` (as :func:`choose_nb` over m;
-    ``slots`` holds at least m entries and is work space beyond ``m_inj``).
-
-    Multinomial: ``m`` independent uniforms, generated already sorted (normalised cumulative
-    sums of exponentials), merged with the cumulative weights in one pass (the same
-    distribution as a binary search per draw, in linear time). Low variance: one random
-    offset, step 1 / m. Each drawn particle gets Gaussian jitter.
-    """
-    cdf = np.empty(n)
-    acc = 0.0
-    for i in range(n):
-        acc += w[i]
-        cdf[i] = acc
-    cdf[n - 1] = 1.0 + 1e-12
-    u = np.empty(m)
-    if low_variance:
-        r = rand_u(state) / m
-        for k in range(m):
-            u[k] = r + k / m
-    else:
-        total = 0.0
-        for k in range(m):
-            total -= math.log(1.0 - rand_u(state))
-            u[k] = total
-        total -= math.log(1.0 - rand_u(state))
-        for k in range(m):
-            u[k] /= total
-    j = 0
-    for k in range(m):
-        while j < n - 1 and cdf[j] < u[k]:
-            j += 1
-        out[k, 0] = parts[j, 0] + jit_xy * rand_n(state)
-        out[k, 1] = parts[j, 1] + jit_xy * rand_n(state)
-        out[k, 2] = wrap(parts[j, 2] + jit_th * rand_n(state))
-    for k in range(m):
-        logw[k] = 0.0
-        w[k] = 1.0 / m
-    if m_inj > 0:
-        _choose_into(slots, m, m_inj, state)
-
-
-@nb.njit(cache=True, error_model="python", fastmath=False)
 def _cluster_nb(parts, n, w, seed, r2):  # pragma: no cover - compiled
     """Weight and weighted sums (x, y, cos theta, sin theta) of the particles within sqrt(``r2``)
     m of particle ``seed``."""
@@ -489,29 +442,6 @@ def choose_nb(n, m, state):  # pragma: no cover - compiled
     idx = np.empty(n, dtype=np.int64)
     _choose_into(idx, n, m, state)
     return idx[:m].copy()
-
-
-@nb.njit(cache=True, error_model="python", fastmath=False)
-def inject_matured_nb(parts, slots, cand, count, nc, threshold, state):  # pragma: no cover - compiled
-    """Replace the particles at ``slots`` by poses around the matured candidates (the first
-    ``nc`` rows of ``cand`` whose ``count`` reaches ``threshold``, taken in turn; Gaussian noise
-    of 0.05 m and 0.05 rad, as :func:`gaussian_set_nb`). Returns how many were replaced: all
-    of ``slots``, or 0 when no candidate has matured."""
-    ready = np.empty((nc, 3))
-    k = 0
-    for i in range(nc):
-        if count[i] >= threshold:
-            ready[k, 0], ready[k, 1], ready[k, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
-            k += 1
-    if k == 0:
-        return 0
-    for i in range(slots.shape[0]):
-        c = ready[i % k]
-        j = slots[i]
-        parts[j, 0] = c[0] + 0.05 * rand_n(state)
-        parts[j, 1] = c[1] + 0.05 * rand_n(state)
-        parts[j, 2] = wrap(c[2] + 0.05 * rand_n(state))
-    return slots.shape[0]
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)

@@ -13,7 +13,7 @@ lines counted, candidates far from the robot matured while it saw only lines and
 accurate estimate away (5 v 5 image matches). The free places are refilled from vision in
 batches (when at least a quarter of them is free). Candidates with at least
 ``maturing_threshold`` consistent frames may replace particles at the next resampling
-(:func:`kernels.inject_matured_nb`).
+(:func:`inject_matured_nb`); :class:`Maturing` is the filter's injection strategy (variant ``maturing``).
 
 Everything per frame is one compiled call (:func:`mature_nb`, or :func:`move_candidates_nb`
 on a frame without observations): the candidates live in a fixed buffer (C x 3 poses,
@@ -23,13 +23,21 @@ team frame, m and rad; C ages in frames), the first ``nc`` rows in use.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numba as nb
 import numpy as np
+from numpy.typing import NDArray
 
 from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
-from cognition.localization.resetting import _from_vision_nb
+from cognition.localization.amcl import AMCLInjection
+from cognition.localization.params import LocalizationParams
+from cognition.localization.resetting import _from_vision_nb, resetting_share
 from cognition.localization.sensor import O, T
+from cognition.representations import RobotPose
+
+if TYPE_CHECKING:
+    from cognition.localization.particle_filter import ParticleFilter
 
 _CONF, _FLOOR, _TYPE = int(O.CONF), int(O.FLOOR), int(O.TYPE)
 _LINE = int(T.LINE)
@@ -108,3 +116,72 @@ def mature_nb(
             count[nc] = 0
             nc += 1
     return nc
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def inject_matured_nb(parts, slots, cand, count, nc, threshold, state):  # pragma: no cover - compiled
+    """Replace the particles at ``slots`` by poses around the matured candidates (the first
+    ``nc`` rows of ``cand`` whose ``count`` reaches ``threshold``, taken in turn; Gaussian noise
+    of 0.05 m and 0.05 rad, as :func:`kernels.gaussian_set_nb`). Returns how many were replaced: all
+    of ``slots``, or 0 when no candidate has matured."""
+    ready = np.empty((nc, 3))
+    k = 0
+    for i in range(nc):
+        if count[i] >= threshold:
+            ready[k, 0], ready[k, 1], ready[k, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
+            k += 1
+    if k == 0:
+        return 0
+    for i in range(slots.shape[0]):
+        c = ready[i % k]
+        j = slots[i]
+        parts[j, 0] = c[0] + 0.05 * K.rand_n(state)
+        parts[j, 1] = c[1] + 0.05 * K.rand_n(state)
+        parts[j, 2] = K.wrap(c[2] + 0.05 * K.rand_n(state))
+    return slots.shape[0]
+
+
+class Maturing(AMCLInjection):
+    """Darmstadt VI particle maturing (module docstring) as the filter's injection: the AMCL
+    share (at least ``reset_probability`` while lost, as in sensor resetting) is filled with
+    poses around the candidates that have matured; with none matured nothing is injected."""
+
+    name = "maturing"
+
+    def __init__(self, params: LocalizationParams) -> None:
+        super().__init__(params)
+        self.cand = np.zeros((params.maturing_candidates, 3))
+        """Candidate poses (buffer; the first :attr:`nc` rows are in use)."""
+        self.ages = np.zeros(params.maturing_candidates, dtype=np.int64)
+        """Consistent frames with a landmark of each candidate."""
+        self.nc = 0
+
+    def observe(self, pf: ParticleFilter, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
+        """Move the candidates by the odometry and, on a frame with observations, score, drop
+        and refill them (:func:`mature_nb`)."""
+        if obs.shape[0]:
+            self.nc = mature_nb(
+                self.cand, self.ages, self.nc, obs, dx, dy, dth, self.params.maturing_consistency, pf.hough_params,
+                *pf.maps, pf.ll_buffer, pf.scratch, pf.kernel_state,
+            )  # fmt: skip
+        else:
+            move_candidates_nb(self.cand, self.nc, dx, dy, dth)
+
+    def share(self, w_raw: float, lost: bool) -> float:
+        return resetting_share(super().share(w_raw, lost), lost, self.params.reset_probability)
+
+    def inject(self, pf: ParticleFilter, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
+        threshold = self.params.maturing_threshold
+        got = int(inject_matured_nb(pf.parts, slots, self.cand, self.ages, self.nc, threshold, pf.kernel_state))
+        if got:
+            pf.parts[slots] = pf.away_from_mirror(pf.parts[slots], pose)
+        return got
+
+    def forget(self) -> None:
+        super().forget()
+        self.nc = 0
+
+    def side_switch(self) -> None:
+        c = self.cand[: self.nc]
+        c[:, :2] *= -1.0
+        c[:, 2] = np.mod(c[:, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi

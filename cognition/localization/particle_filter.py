@@ -23,6 +23,11 @@ maturing   low variance; candidate poses generated from single observations are 
            :mod:`cognition.localization.maturing`)
 =========  ==================================================================================
 
+A variant is a resampling draw and an injection strategy (:data:`VARIANT_STRATEGIES`), each in a
+file named after its algorithm: :mod:`~cognition.localization.multinomial`,
+:mod:`~cognition.localization.low_variance`, :mod:`~cognition.localization.amcl`,
+:mod:`~cognition.localization.resetting` and :mod:`~cognition.localization.maturing`
+(:mod:`cognition.localization.strategy` lists them); this module holds what every variant shares.
 Vision poses come from :mod:`cognition.localization.resetting`. The compiled steps (motion
 noise, resampling, injected poses and their slots, resetting) draw from the filter's own
 xorshift64* state, seeded from its numpy Generator, which only draws the number of injections.
@@ -105,16 +110,29 @@ from numpy.typing import NDArray
 from cognition.field import Field, FieldDimensions
 from cognition.gamestate import GameStateId
 from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
+from cognition.localization.amcl import AMCLInjection
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
-from cognition.localization.maturing import mature_nb, move_candidates_nb
+from cognition.localization.low_variance import LOW_VARIANCE
+from cognition.localization.maturing import Maturing
+from cognition.localization.multinomial import MULTINOMIAL
 from cognition.localization.params import LocalizationParams
 from cognition.localization.places import placement_poses
-from cognition.localization.resetting import from_vision
+from cognition.localization.resample import resample_nb
+from cognition.localization.resetting import SensorResetting
 from cognition.localization.sensor import NO_OBSERVATIONS, pack_observations, sensor_table
+from cognition.localization.strategy import Injection, Resampling
 from cognition.representations import RobotPose, SensorFrame
 
-PARTICLE_VARIANTS = ("mcl", "lowvar", "amcl", "reset", "maturing")
+VARIANT_STRATEGIES: dict[str, tuple[Resampling, type[Injection]]] = {
+    "mcl": (MULTINOMIAL, Injection),
+    "lowvar": (LOW_VARIANCE, Injection),
+    "amcl": (MULTINOMIAL, AMCLInjection),
+    "reset": (MULTINOMIAL, SensorResetting),
+    "maturing": (LOW_VARIANCE, Maturing),
+}
+"""Each variant's resampling draw and injection strategy (:mod:`cognition.localization.strategy`)."""
+PARTICLE_VARIANTS = tuple(VARIANT_STRATEGIES)
 _MODELS: OrderedDict[FieldDimensions, FieldModel] = OrderedDict()
 _MODELS_KEPT = 8
 """Compiled maps kept (least recently used dropped): one per field geometry in use."""
@@ -146,7 +164,12 @@ def field_model(field: Field) -> FieldModel:
 
 
 class ParticleFilter(Localizer):
-    """Monte Carlo localization; ``variant`` picks the resampling step (module docstring)."""
+    """Monte Carlo localization; ``variant`` picks the resampling draw and the injection
+    strategy (module docstring, :data:`VARIANT_STRATEGIES`).
+
+    ``resampling`` and ``injection`` replace the variant's own strategies, so that other
+    combinations can be studied (for example the low-variance draw with AMCL's random poses);
+    the filter's :attr:`name` then says which, ``"<variant>:<draw>+<injection>"``."""
 
     def __init__(
         self,
@@ -156,28 +179,46 @@ class ParticleFilter(Localizer):
         rng: np.random.Generator | None = None,
         player_number: int = 1,
         players_per_team: int = 5,
+        *,
+        resampling: Resampling | None = None,
+        injection: type[Injection] | None = None,
     ):
-        if variant not in PARTICLE_VARIANTS:
+        if variant not in VARIANT_STRATEGIES:
             raise ValueError(f"unknown particle-filter variant {variant!r}; valid: {list(PARTICLE_VARIANTS)}")
-        self.name = variant
+        own_resampling, own_injection = VARIANT_STRATEGIES[variant]
+        resampling = own_resampling if resampling is None else resampling
+        injection = own_injection if injection is None else injection
+        if not isinstance(resampling, Resampling):
+            raise TypeError(f"resampling must be a Resampling (multinomial.MULTINOMIAL, ...), got {resampling!r}")
+        if not (isinstance(injection, type) and issubclass(injection, Injection)):
+            raise TypeError(f"injection must be an Injection subclass (amcl.AMCLInjection, ...), got {injection!r}")
+        same = resampling == own_resampling and injection is own_injection
+        self.name = variant if same else f"{variant}:{resampling.name}+{injection.name}"
         super().__init__(field, params, rng, player_number, players_per_team)
         p = self.params
+        self.resampling: Resampling = resampling
+        """The resampling draw (:mod:`.multinomial` or :mod:`.low_variance`)."""
+        self.injection: Injection = injection(p)
+        """The injection strategy (what replaces particles after resampling)."""
         self.model = field_model(field)
-        self._state = np.array([int(self.rng.integers(1, 2**63 - 1))], dtype=np.uint64)
+        self.kernel_state = np.array([int(self.rng.integers(1, 2**63 - 1))], dtype=np.uint64)
+        """The xorshift64* state every compiled step of this filter draws from."""
         cap = p.particles
         self.parts = np.zeros((cap, 3))
         self._spare = np.zeros((cap, 3))
         self.logw = np.zeros(cap)
         self.w = np.full(cap, 1.0 / cap)
-        self._ll = np.zeros(max(cap, p.maturing_candidates))
-        self._scratch = np.zeros((10, max(cap, p.maturing_candidates)))
+        self.ll_buffer = np.zeros(max(cap, p.maturing_candidates))
+        """Log-likelihood work space of the compiled sensor update (particles or candidates)."""
+        self.scratch = np.zeros((10, max(cap, p.maturing_candidates)))
+        """Work space of the compiled sensor update (:func:`kernels.log_likelihood_nb`)."""
         self._pose_out = np.zeros(14)
         self._cov = self._pose_out[5:14].reshape(3, 3)
         """The pose's covariance (a view of ``_pose_out``, written by :func:`kernels.frame_nb`)."""
         self._pose_par = np.array([p.cluster_radius, 0.5, 0.5, p.jump_weight, math.exp(p.relocalize_log_likelihood)])
         self._prev = np.zeros(4)
         self._motion = np.array([p.sigma_mx, p.sigma_mtheta, p.sigma_mytheta, p.motion_floor_xy, p.motion_floor_theta])
-        self._hough = np.array(
+        self.hough_params = np.array(
             [
                 1.0 if p.line_model == "hough" else 0.0,
                 p.hough_sigma_rho,
@@ -186,23 +227,18 @@ class ParticleFilter(Localizer):
                 p.hough_sigma_spread,
             ]
         )
+        """The line model of the compiled sensor update: 1 for NimbRo's Hough model, then its sigmas."""
         self._table = sensor_table(p)
         m = self.model
-        self._maps = (m.posts, m.crossings, m.lines, m.marks, m.poles, m.cross_grid, m.line_grid, m.geo)
+        self.maps = (m.posts, m.crossings, m.lines, m.marks, m.poles, m.cross_grid, m.line_grid, m.geo)
         """The map arrays of :attr:`model`, in the order the kernels take them."""
         self._slots = np.zeros(cap, dtype=np.int64)
-        """Slots of the poses injected at a resampling (:func:`kernels.resample_nb`)."""
-        self.n = p.floor_particles if variant == "reset" else cap
-        self.w_slow = 0.0
-        self.w_fast = 0.0
+        """Slots of the poses injected at a resampling (:func:`resample.resample_nb`)."""
+        self.n = self.injection.initial_count()
         self.injected = 0
         """Particles replaced by random or vision poses in the latest update."""
         self._last_resample = -1e9
         self._own_half = True
-        self._cand = np.zeros((p.maturing_candidates, 3))
-        """Maturing candidate poses (buffer; the first ``_nc`` rows are in use, :mod:`maturing`)."""
-        self._cand_count = np.zeros(p.maturing_candidates, dtype=np.int64)
-        self._nc = 0
         self._watched: deque[tuple[float, int, int]] = deque()
         """(time, unexplained observations, observations) of the observed frames in the safety net's window."""
         self._unexplained = 0
@@ -215,13 +251,23 @@ class ParticleFilter(Localizer):
         n0 = placement_poses(field, self.player_number, self.players_per_team, GameStateId.INITIAL, False)
         self.set_particles_around(n0)
 
+    @property
+    def w_slow(self) -> float:
+        """Slow average of the per-observation evidence (DNT 4.4; 0 for the variants without injection)."""
+        return self.injection.w_slow
+
+    @property
+    def w_fast(self) -> float:
+        """Fast average of the per-observation evidence (DNT 4.4)."""
+        return self.injection.w_fast
+
     # -- initial beliefs -------------------------------------------------------------------
     def set_particles_around(self, centres: NDArray[np.float64], sigma_xy: float | None = None) -> None:
         """Spread all particles around the poses ``centres`` (K x 3, team frame), in turn."""
         p = self.params
         sxy = p.placement_sigma_xy if sigma_xy is None else sigma_xy
         centres = np.ascontiguousarray(np.asarray(centres, dtype=np.float64).reshape(-1, 3))
-        K.gaussian_set_nb(self.parts, 0, self.n, centres, sxy, p.placement_sigma_theta, self._state)
+        K.gaussian_set_nb(self.parts, 0, self.n, centres, sxy, p.placement_sigma_theta, self.kernel_state)
         self.logw[: self.n] = 0.0
         self.w[: self.n] = 1.0 / self.n
         self._prev[3] = 0.0
@@ -229,7 +275,7 @@ class ParticleFilter(Localizer):
     def set_uniform(self, own_half: bool = False) -> None:
         """Spread all particles uniformly over the field (or the own half), all headings."""
         hl, hw = self.field.half_length, self.field.half_width
-        K.uniform_set_nb(self.parts, 0, self.n, hl, hw, own_half, self._state)
+        K.uniform_set_nb(self.parts, 0, self.n, hl, hw, own_half, self.kernel_state)
         self.logw[: self.n] = 0.0
         self.w[: self.n] = 1.0 / self.n
         self._prev[3] = 0.0
@@ -239,9 +285,7 @@ class ParticleFilter(Localizer):
         n = self.n
         self.parts[:n, :2] *= -1.0
         self.parts[:n, 2] = np.mod(self.parts[:n, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
-        c = self._cand[: self._nc]
-        c[:, :2] *= -1.0
-        c[:, 2] = np.mod(c[:, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
+        self.injection.side_switch()
         self._prev[3] = 0.0
 
     def on_placement(self, poses: NDArray[np.float64]) -> None:
@@ -264,11 +308,10 @@ class ParticleFilter(Localizer):
 
     def _forget(self) -> None:
         """Drop what the filter learnt about its own health and its candidates (new beliefs)."""
-        self.w_slow = self.w_fast = 0.0
+        self.injection.forget()
         self._watched.clear()
         self._unexplained = self._observed = 0
         self._relocalize = False
-        self._nc = 0
 
     @property
     def unexplained_share(self) -> float:
@@ -309,14 +352,10 @@ class ParticleFilter(Localizer):
         k = obs.shape[0]
         explained = np.empty(k)
         evidence, raw_evidence, x, y, th, spread, unexplained = K.frame_nb(
-            self.parts, n, o.dx, o.dy, o.dtheta, self._motion, self._state, obs, self._hough, *self._maps, self._ll,
-            self._scratch, self.logw, self.w, self._prev, self._pose_par, self._pose_out, explained,
+            self.parts, n, o.dx, o.dy, o.dtheta, self._motion, self.kernel_state, obs, self.hough_params, *self.maps,
+            self.ll_buffer, self.scratch, self.logw, self.w, self._prev, self._pose_par, self._pose_out, explained,
         )  # fmt: skip
-        if self.name == "maturing":
-            if k:
-                self._mature(obs, o.dx, o.dy, o.dtheta)
-            else:
-                self._move_candidates(o.dx, o.dy, o.dtheta)
+        self.injection.observe(self, obs, o.dx, o.dy, o.dtheta)
         lost = spread > p.lost_spread
         pose = RobotPose(
             x, y, th, self._cov.copy(), lost, n, self.parts[:n].copy(), self.w[:n].copy(), self.name
@@ -332,77 +371,47 @@ class ParticleFilter(Localizer):
                 self._relocalize = False
                 self.relocalizations += 1
                 m = max(1, round(p.injection_max * self.n))
-                slots = K.choose_nb(self.n, m, self._state)
-                self.parts[slots] = self._away_from_mirror(self._uniform_poses(m), pose)
+                slots = K.choose_nb(self.n, m, self.kernel_state)
+                self.parts[slots] = self.away_from_mirror(self.uniform_poses(m), pose)
                 self.logw[slots] = math.log(p.relocalize_weight)  # must explain the next frames far better
                 self.w[: self.n] = np.exp(self.logw[: self.n])
                 self.w[: self.n] /= self.w[: self.n].sum()
                 self.injected += m
         return pose
 
-    # -- resampling per variant ------------------------------------------------------------
-    def _share(self, w_avg: float) -> float:
-        """Update w_slow and w_fast (DNT 4.4) and return the share of poses to replace."""
-        p = self.params
-        self.w_slow += p.alpha_slow * (w_avg - self.w_slow)
-        self.w_fast += p.alpha_fast * (w_avg - self.w_fast)
-        if self.w_slow <= 0.0:
-            return 0.0
-        return min(p.injection_max, max(0.0, 1.0 - self.w_fast / self.w_slow))
-
+    # -- resampling by the variant's strategies -----------------------------------------------
     def _resample(self, obs: NDArray[np.float64], w_avg: float, w_raw: float, lost: bool, pose: RobotPose) -> None:
-        """Resample by the variant (module docstring) and inject its fresh poses, if any.
+        """Resample with the variant's draw and inject its strategy's fresh poses, if any.
 
-        Poses from vision (``reset``, ``maturing``) that lie near the mirror image of ``pose``,
-        the estimate of this frame, are mirrored onto it first (:meth:`_away_from_mirror`).
-
-        The number of injections is drawn from the numpy Generator before the compiled
-        resampling runs: the two random streams are independent, so the order between them
-        does not matter, and one compiled call resamples, resets the weights and chooses the
-        slots."""
+        The injection strategy sets the particle count (``reset``: adaptive) and the share to
+        replace; the number of injections is drawn from the numpy Generator before the
+        compiled resampling runs: the two random streams are independent, so the order
+        between them does not matter, and one compiled call resamples, resets the weights and
+        chooses the slots. Poses from vision (``reset``, ``maturing``) that lie near the
+        mirror image of ``pose``, the estimate of this frame, are mirrored onto it first
+        (:meth:`away_from_mirror`)."""
         p = self.params
-        v = self.name
+        inj = self.injection
         n_old = self.n
-        n_new = n_old
-        share = 0.0
-        if v == "reset":
-            lo = p.floor_particles
-            n_new = int(min(p.particles, max(lo, math.ceil(lo / max(w_avg, 1e-3)))))
-        if v in ("amcl", "reset", "maturing"):
-            share = self._share(w_raw)
-            if v in ("reset", "maturing") and lost:
-                share = max(share, p.reset_probability)
-        low_var = v in ("lowvar", "maturing")
+        n_new = inj.count(n_old, w_avg)
+        share = inj.share(w_raw, lost)
         m_inj = int(self.rng.binomial(n_new, share)) if share > 0.0 else 0
-        K.resample_nb(
-            self.parts, n_old, self.w, self.logw, self._spare, n_new, low_var, p.resample_jitter_xy,
-            p.resample_jitter_theta, m_inj, self._slots, self._state,
+        resample_nb(
+            self.parts, n_old, self.w, self.logw, self._spare, n_new, self.resampling.low_variance,
+            p.resample_jitter_xy, p.resample_jitter_theta, m_inj, self._slots, self.kernel_state,
         )  # fmt: skip
         self.parts, self._spare = self._spare, self.parts
         self.n = n_new
         if m_inj == 0:
             return
-        slots = self._slots[:m_inj]
-        if v == "maturing":
-            got = K.inject_matured_nb(
-                self.parts, slots, self._cand, self._cand_count, self._nc, p.maturing_threshold, self._state
-            )
-            if got:
-                self.parts[slots] = self._away_from_mirror(self.parts[slots], pose)
-        elif v == "amcl":
-            got = m_inj
-            self.parts[slots] = self._uniform_poses(m_inj)
-        else:
-            fresh = from_vision(self.model, obs, m_inj, p.reset_from_any_feature, self._state)
-            got = fresh.shape[0]
-            self.parts[slots[:got]] = self._away_from_mirror(fresh, pose)
+        got = inj.inject(self, self._slots[:m_inj], obs, pose)
         if got == 0:
             return
         self.injected = got
-        self.w_slow = self.w_fast = 0.0
+        inj.restart()
 
     @staticmethod
-    def _away_from_mirror(fresh: NDArray[np.float64], pose: RobotPose) -> NDArray[np.float64]:
+    def away_from_mirror(fresh: NDArray[np.float64], pose: RobotPose) -> NDArray[np.float64]:
         """``fresh`` with every pose within :data:`_MIRROR_RADIUS` of the estimate's mirror image
         replaced by its own mirror image (which lies near the estimate). The mirror image
         explains the percepts exactly as well as the estimate: seeded there, a second mode would
@@ -412,28 +421,21 @@ class ParticleFilter(Localizer):
         fresh[near, 2] = np.mod(fresh[near, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
         return fresh
 
-    def _uniform_poses(self, m: int) -> NDArray[np.float64]:
+    def uniform_poses(self, m: int) -> NDArray[np.float64]:
         """``m`` random poses over the field (mirrored pairs), or the own half in the setup states."""
         fresh = np.empty((m, 3))
-        K.uniform_set_nb(fresh, 0, m, self.field.half_length, self.field.half_width, self._own_half, self._state)
+        K.uniform_set_nb(fresh, 0, m, self.field.half_length, self.field.half_width, self._own_half, self.kernel_state)
         return fresh
 
     # -- maturing candidates (Darmstadt VI, :mod:`cognition.localization.maturing`) -------------
-    def _move_candidates(self, dx: float, dy: float, dth: float) -> None:
-        move_candidates_nb(self._cand, self._nc, dx, dy, dth)
-
-    def _mature(self, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
-        """Score the candidates against this frame; drop the inconsistent; refill from vision."""
-        self._nc = mature_nb(
-            self._cand, self._cand_count, self._nc, obs, dx, dy, dth, self.params.maturing_consistency, self._hough,
-            *self._maps, self._ll, self._scratch, self._state,
-        )  # fmt: skip
-
     @property
     def candidates(self) -> NDArray[np.float64]:
-        """Maturing candidate poses (C x 3) and, in :attr:`candidate_counts`, their ages."""
-        return self._cand[: self._nc].copy()
+        """Maturing candidate poses (C x 3; none for the other variants) and, in
+        :attr:`candidate_counts`, their ages."""
+        inj = self.injection
+        return inj.cand[: inj.nc].copy() if isinstance(inj, Maturing) else np.zeros((0, 3))
 
     @property
     def candidate_counts(self) -> NDArray[np.int64]:
-        return self._cand_count[: self._nc].copy()
+        inj = self.injection
+        return inj.ages[: inj.nc].copy() if isinstance(inj, Maturing) else np.zeros(0, dtype=np.int64)
