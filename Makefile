@@ -21,6 +21,7 @@ bench:
 	python -m benchmarks.bench_localization --json out/bench_localization.json
 	python -m benchmarks.bench_worldmodel --json out/bench_worldmodel.json
 	python -m benchmarks.bench_envs --json out/bench_envs.json
+	python -m benchmarks.bench_training --json out/bench_training.json
 	python -m benchmarks.bench_match --stages --json out/bench_match.json
 	python -m benchmarks.soak --json out/soak.json
 

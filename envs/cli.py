@@ -78,6 +78,14 @@ def _train_parser(sub: Any) -> None:
         help=f"environment copies, 1..{_RL_MAX_ENVS} (default 4; soccer_v0: 1 match)",
     )
     p.add_argument(
+        "--envs",
+        type=_integer(1, _RL_MAX_ENVS),
+        default=1,
+        metavar="N",
+        help="worker processes that step the environments (default 1: in the training process); the tasks run "
+        "one copy per process (--n-envs defaults to N), soccer_v0 spreads its --n-envs matches over them",
+    )
+    p.add_argument(
         "--checkpoint-every",
         type=_integer(1, _MAX_STEPS),
         default=10_000,
@@ -154,6 +162,7 @@ def run_train(args: argparse.Namespace, out: TextIO) -> int:
             seed=args.seed,
             env_kwargs=_rl_env_kwargs(args),
             n_envs=args.n_envs,
+            processes=args.envs,
             checkpoint_every=args.checkpoint_every,
             progress_bar=not args.no_progress,
             hyperparams=_json_object(args.hyperparams, "--hyperparams"),

@@ -21,12 +21,13 @@ Environments (``env_id``):
 =====================  =====================================================================================
 id                     how it is trained
 =====================  =====================================================================================
-teamsim/Striker-v0     Gymnasium task; ``n_envs`` copies in a ``DummyVecEnv``, each wrapped in ``Monitor``
+teamsim/Striker-v0     Gymnasium task; ``n_envs`` copies in a ``DummyVecEnv`` (``processes`` 1) or a
+                       ``SubprocVecEnv`` (one worker process per copy), each wrapped in ``Monitor``
 teamsim/Keeper-v0      Gymnasium task; as above
 soccer_v0              PettingZoo parallel env; parameter sharing: SuperSuit turns the N agents of one match
                        into N vector-env slots (``pettingzoo_env_to_vec_env_v1``), ``n_envs`` matches are
-                       concatenated (``concat_vec_envs_v1``) and wrapped in ``VecMonitor``; one policy plays
-                       every agent
+                       concatenated (``concat_vec_envs_v1``, spread over ``processes`` worker processes) and
+                       wrapped in ``VecMonitor``; one policy plays every agent
 =====================  =====================================================================================
 
 Options of :func:`train`:
@@ -44,7 +45,12 @@ option                meaning
 ``seed``              seeds the policy, the environments (copy ``i`` gets ``seed + i``) and SB3; 0..2**31 - 1
 ``env_kwargs``        keyword arguments of the environment (:class:`envs.core.EnvConfig` fields; another key
                       is an error naming it)
-``n_envs``            environment copies, 1..256 (default 4 for the tasks, 1 match for ``soccer_v0``)
+``n_envs``            environment copies, 1..256 (default 4 for the tasks, 1 match for ``soccer_v0``; with
+                      ``processes`` > 1 and no ``n_envs``: one copy per process)
+``processes``         worker processes that step the environments, 1..``n_envs`` (default 1: in the training
+                      process). The tasks run one copy per process (``SubprocVecEnv``), so ``processes`` is 1
+                      or ``n_envs``; ``soccer_v0`` spreads its matches over them. The observations, and so the
+                      trained model, are the same bit for bit as with 1 process
 ``checkpoint_every``  environment steps between checkpoints (default 10,000)
 ``progress_bar``      SB3's progress bar (needs tqdm and rich)
 ``hyperparams``       keyword arguments of the SB3 algorithm over :data:`DEFAULT_HYPERPARAMS`; checked
@@ -61,6 +67,9 @@ Interrupting :func:`train` (Ctrl-C) saves a checkpoint of the model so far befor
 ``KeyboardInterrupt`` propagates. On CPU a run is deterministic for a given seed (the same
 ``model.zip`` bit for bit).
 
+Worker processes pay off when stepping the environments costs more than the policy update: on
+the 2-core machine see the scaling figures of ``benchmarks/bench_training.py`` in the README.
+
 Reference (2 shared cores): ``teamsim train --env teamsim/Striker-v0 --action-type discrete
 --timesteps 120000`` runs at about 520 decisions/s (4 min) and the policy scores in 22 of 50
 evaluation episodes, against 3 for random macro-actions and 0 for random continuous actions;
@@ -71,6 +80,7 @@ best constant macro-action scores too.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import inspect
 import json
 import math
@@ -273,22 +283,53 @@ def _spaces(env_id: str, env_kwargs: Mapping[str, Any] | None) -> tuple[gymnasiu
         env.close()
 
 
-def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: Mapping[str, Any] | None, monitor_dir: Path | None):
-    """The SB3 vector env of the module table, seeded with ``seed`` (copy ``i``: ``seed + i``)."""
+def _make_task(env_id: str, **kwargs: Any) -> gymnasium.Env:
+    """``gymnasium.make(env_id, **kwargs)`` after registering the ids (runs in worker processes)."""
+    import envs  # noqa: F401  (registers the Gymnasium ids)
+
+    return gymnasium.make(env_id, **kwargs)
+
+
+def check_processes(env_id: str, n_envs: int, processes: int) -> None:
+    """``ValueError`` unless ``processes`` worker processes can run ``n_envs`` copies of ``env_id``."""
+    if not isinstance(processes, int) or isinstance(processes, bool) or not 1 <= processes <= MAX_ENVS:
+        raise ValueError(f"processes must be an integer in 1..{MAX_ENVS}, got {processes!r}")
+    if processes > n_envs:
+        raise ValueError(f"processes ({processes}) must not exceed n_envs ({n_envs}): each process steps whole copies")
+    if env_id != "soccer_v0" and processes not in (1, n_envs):
+        raise ValueError(
+            f"{env_id} runs one copy per worker process: processes must be 1 or n_envs ({n_envs}), got {processes}"
+        )
+
+
+def make_vec_env(
+    env_id: str,
+    n_envs: int,
+    seed: int,
+    env_kwargs: Mapping[str, Any] | None,
+    monitor_dir: Path | None,
+    processes: int = 1,
+):
+    """The SB3 vector env of the module table, seeded with ``seed`` (copy ``i``: ``seed + i``),
+    stepped in ``processes`` worker processes (1: in this process)."""
     check_env_id(env_id)
+    check_processes(env_id, n_envs, processes)
     _sb3()
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
-    from stable_baselines3.common.vec_env import DummyVecEnv, VecMonitor
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
     if env_id != "soccer_v0":
         import envs  # noqa: F401  (registers the Gymnasium ids)
 
         return sb3_make_vec_env(
-            env_id,
+            # a worker process imports nothing of teamsim by itself: its factory registers the ids first
+            env_id if processes == 1 else functools.partial(_make_task, env_id),
             n_envs=n_envs,
             seed=seed,
             env_kwargs=dict(env_kwargs or {}),
-            vec_env_cls=DummyVecEnv,
+            vec_env_cls=DummyVecEnv if processes == 1 else SubprocVecEnv,
+            # forkserver: the workers start from a clean interpreter, not a copy of torch's threads
+            vec_env_kwargs=None if processes == 1 else {"start_method": "forkserver"},
             monitor_dir=None if monitor_dir is None else str(monitor_dir),
         )
     try:
@@ -322,7 +363,8 @@ def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: Mapping[str, A
             return super().get_attr(attr_name, indices)
 
     venv = supersuit.pettingzoo_env_to_vec_env_v1(make_env(env_id, env_kwargs))
-    venv = supersuit.concat_vec_envs_v1(venv, n_envs, num_cpus=0, base_class="gymnasium")
+    cpus = 0 if processes == 1 else processes  # SuperSuit: 0 steps the matches in this process
+    venv = supersuit.concat_vec_envs_v1(venv, n_envs, num_cpus=cpus, base_class="gymnasium")
     sb3_venv = SeededSB3VecEnv(venv)
     sb3_venv.seed(seed)
     return VecMonitor(sb3_venv)
@@ -373,24 +415,28 @@ def train(
     torch_threads: int | None = 1,
     verbose: int = 0,
     overwrite: bool = False,
+    processes: int = 1,
 ) -> Path:
     """Train a policy on ``env_id`` and save it; returns the path of ``out_dir/model.zip``.
 
     Options in the module table. Everything is checked before anything is written: raises
     ``ValueError`` for an unknown environment or algorithm, ``timesteps``, ``n_envs``,
-    ``checkpoint_every`` or ``seed`` out of range, bad ``env_kwargs`` or ``hyperparams``
-    (naming the key), SAC with discrete actions, ``resume`` with ``overwrite``, a model or
-    checkpoints in ``out_dir`` without ``resume`` or ``overwrite``, ``resume`` of a run with
-    another environment or algorithm, or ``resume`` of a finished run without checkpoints.
+    ``processes`` (:func:`check_processes`), ``checkpoint_every`` or ``seed`` out of range, bad
+    ``env_kwargs`` or ``hyperparams`` (naming the key), SAC with discrete actions, ``resume``
+    with ``overwrite``, a model or checkpoints in ``out_dir`` without ``resume`` or
+    ``overwrite``, ``resume`` of a run with another environment or algorithm, or ``resume`` of
+    a finished run without checkpoints.
     """
     check_env_id(env_id)
     cls = algo_class(algo)
     if not isinstance(timesteps, int) or isinstance(timesteps, bool) or timesteps <= 0:
         raise ValueError(f"timesteps must be a positive integer, got {timesteps!r}")
     if n_envs is None:
-        n_envs = 1 if env_id == "soccer_v0" else 4
+        many = isinstance(processes, int) and not isinstance(processes, bool) and processes > 1
+        n_envs = processes if many else (1 if env_id == "soccer_v0" else 4)
     if not isinstance(n_envs, int) or isinstance(n_envs, bool) or not 1 <= n_envs <= MAX_ENVS:
         raise ValueError(f"n_envs must be an integer in 1..{MAX_ENVS}, got {n_envs!r}")
+    check_processes(env_id, n_envs, processes)
     if not isinstance(checkpoint_every, int) or isinstance(checkpoint_every, bool) or checkpoint_every < 1:
         raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
     if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed <= MAX_SEED:
@@ -428,6 +474,7 @@ def train(
         "seed": seed,
         "env_kwargs": jsonable(env_kwargs),
         "n_envs": n_envs,
+        "processes": processes,
         "checkpoint_every": checkpoint_every,
         "progress_bar": progress_bar,
         "hyperparams": jsonable(params),
@@ -450,7 +497,8 @@ def train(
 
     set_torch_threads(torch_threads)
     set_random_seed(seed)
-    venv = make_vec_env(env_id, n_envs, seed, env_kwargs, None if env_id == "soccer_v0" else out / "monitor")
+    monitor = None if env_id == "soccer_v0" else out / "monitor"
+    venv = make_vec_env(env_id, n_envs, seed, env_kwargs, monitor, processes)
     slots = venv.num_envs
     tb = str(out / "tb") if _tensorboard_available() else None
     if checkpoint is not None:

@@ -147,6 +147,34 @@ def test_evaluate_reports_episodes_and_resumes_from_jsonl(tmp_path: Path) -> Non
     assert "goals for" in text and "episodes         4" in text
 
 
+@pytest.mark.slow(seconds=12)
+@pytest.mark.parametrize(
+    ("env_id", "env_kwargs"), [("teamsim/Striker-v0", SHORT_STRIKER), ("soccer_v0", {**SMALL_SOCCER, "max_cycles": 30})]
+)
+def test_worker_processes_train_the_same_model_as_one_process(env_id: str, env_kwargs: dict, tmp_path: Path) -> None:
+    """``processes`` only moves the environments into worker processes: the rollouts, and so the
+    trained weights, are the same bit for bit as in one process."""
+    params = []
+    for processes in (1, 2):
+        path = train(
+            env_id, timesteps=128, out_dir=tmp_path / str(processes), seed=5, env_kwargs=env_kwargs, n_envs=2,
+            hyperparams=TINY_PPO, progress_bar=False, processes=processes,
+        )  # fmt: skip
+        params.append(PPO.load(path, device="cpu").policy.parameters_to_vector())
+        assert json.loads((tmp_path / str(processes) / "config.json").read_text())["processes"] == processes
+    np.testing.assert_array_equal(params[0], params[1])
+
+
+def test_worker_process_counts_are_checked_before_anything_is_written(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match=r"processes \(3\) must not exceed n_envs \(2\)"):
+        train("soccer_v0", timesteps=10, out_dir=tmp_path, n_envs=2, processes=3)
+    with pytest.raises(ValueError, match="one copy per worker process: processes must be 1 or n_envs"):
+        train("teamsim/Striker-v0", timesteps=10, out_dir=tmp_path, n_envs=4, processes=2)
+    with pytest.raises(ValueError, match=r"processes must be an integer in 1\.\.256"):
+        train("teamsim/Striker-v0", timesteps=10, out_dir=tmp_path, processes=0)
+    assert not any(tmp_path.iterdir())
+
+
 def test_evaluate_soccer_plays_matches_with_the_shared_policy(tmp_path: Path) -> None:
     kw = {**SMALL_SOCCER, "max_cycles": 30}
     model = train(
@@ -217,6 +245,8 @@ def test_cli_train_and_evaluate(tmp_path: Path, capsys: pytest.CaptureFixture[st
             "sac needs continuous actions",
         ),
         (["train", "--env", "soccer_v0", *TEN_STEPS, "--env-kwargs", "[1]"], "JSON object"),
+        (["train", "--env", "soccer_v0", *TEN_STEPS, "--envs", "0"], "--envs: must be in 1..256"),
+        (["train", "--env", "teamsim/Striker-v0", *TEN_STEPS, "--envs", "3", "--n-envs", "4"], "processes must be 1"),
         (["evaluate", "--model", "missing/model.zip", "--env", "teamsim/Striker-v0"], "model file not found"),
     ],
 )
