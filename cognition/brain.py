@@ -23,6 +23,7 @@ import numpy as np
 
 from cognition.field import ColourScheme, Field
 from cognition.oracle import OracleInput
+from cognition.profiling import NO_LAPS, Laps, ModuleProfile
 from cognition.representations import BrainOutput, SensorFrame
 
 
@@ -46,6 +47,13 @@ class BrainContext:
     """Colours of goals, ball and jerseys, for vision on camera images (``None``: the ``modern`` scheme)."""
     team: int = 0
     """Own jersey: index into ``colours.team_colours`` (0 or 1)."""
+    profile: ModuleProfile | None = None
+    """When set, the brain adds the wall time of each of its modules to it (:mod:`cognition.profiling`;
+    shared by all brains of a match)."""
+
+    def laps(self) -> Laps:
+        """The lap timer for the brain's modules: into :attr:`profile`, or one that records nothing."""
+        return NO_LAPS if self.profile is None else self.profile.laps()
 
 
 @runtime_checkable

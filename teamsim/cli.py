@@ -17,6 +17,9 @@ scenario       list or run scenarios: kidnapping, penalties, ... (registered by
 compare        compare localization variants over paired seeds (the same way)
 =============  ==================================================================
 
+``teamsim match --profile`` also prints where the time went, per robot-frame: physics, referee,
+camera, each module of the brains and the glue (:mod:`teamsim.profile`).
+
 ``teamsim match`` draws a live progress line on stderr while it plays (game clock, score,
 real-time factor; :mod:`teamsim.progress`) when stderr is a terminal, and nothing when it is
 piped or with ``--quiet``; the line is removed before the summary is printed.
@@ -210,6 +213,12 @@ def _match_parser(sub: Any) -> None:
         help="delete the results of an earlier run in --out (config.json, events.jsonl, summary.json) first",
     )
     p.add_argument("--events", action="store_true", help="also print the event log")
+    p.add_argument(
+        "--profile",
+        action="store_true",
+        help="also print where the time went: microseconds per robot-frame for physics, referee, camera, "
+        "each cognition module and the glue (teamsim.profile)",
+    )
     p.add_argument(
         "--quiet",
         action="store_true",
@@ -446,7 +455,7 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
         away = default_brains(args.opponents, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
         brains = lambda team, number: home(team, number) if team == 0 else away(team, number)  # noqa: E731
     listen = gc is not None and gc.mode == "listen"
-    match = Match(config, brains=brains, log=EventLog(sink=sink), external_referee=listen)
+    match = Match(config, brains=brains, log=EventLog(sink=sink), external_referee=listen, profile=args.profile)
     panel = None
     shown: tuple[int, int] | None = None
     if args.video is not None and args.video_robot != "none":
@@ -506,6 +515,8 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
         if events_file is not None:
             events_file.close()
     print(summary.format(), file=out)
+    if match.profile is not None:
+        print(match.profile.format(match.wall_seconds, match.time), file=out)
     if args.events:
         print("events:", file=out)
         for ev in match.log.events:

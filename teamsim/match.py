@@ -101,6 +101,7 @@ from teamsim.params import Range, Ranges, check_choice, check_ranges, from_mappi
 from teamsim.percept_params import PerceptParams
 from teamsim.percepts import PerceptSynthesizer, Scene
 from teamsim.placement import world_to_team
+from teamsim.profile import MatchProfile
 from teamsim.referee import Referee, RefereeParams
 from teamsim.state import WorldSnapshot
 from teamsim.summary import MatchSummary as MatchSummary  # re-exported
@@ -225,11 +226,16 @@ class Match:
         brains: BrainFactory | None = None,
         log: EventLog | None = None,
         external_referee: bool = False,
+        profile: bool = False,
     ):
         """``brains`` makes each robot's brain; ``None``: :func:`teamsim.brains.default_brains`.
         ``external_referee``: an external GameController makes the decisions
-        (:class:`teamsim.gc_referee.GameControllerReferee`, fed by :mod:`teamsim.gc_bridge`)."""
+        (:class:`teamsim.gc_referee.GameControllerReferee`, fed by :mod:`teamsim.gc_bridge`).
+        ``profile``: time every stage and the brains' modules into :attr:`profile`
+        (:mod:`teamsim.profile`; the results are the same)."""
         self.config = config or MatchConfig()
+        self.profile: MatchProfile | None = MatchProfile() if profile else None
+        """Where the time goes (``None`` unless built with ``profile=True``)."""
         c = self.config
         self.field: Field = make_field(c.field)
         n = c.players_per_team
@@ -285,6 +291,7 @@ class Match:
                     rng=brain_rngs[i],
                     colours=scheme,
                     team=robot.team,
+                    profile=None if self.profile is None else self.profile.modules,
                 )
             )
             self.brains.append(brain)
@@ -363,10 +370,16 @@ class Match:
         if not self._cognition_done:
             self._before_physics()
         self._cognition_done = False
+        prof = self.profile
+        t0 = wallclock.perf_counter() if prof is not None else 0.0
         events = self.world.step(self.time)
         self.steps += 1
         self.time = self.steps * self.world.dt
+        t1 = wallclock.perf_counter() if prof is not None else 0.0
         self.referee.update(self.time, events)
+        if prof is not None:
+            prof.add("physics", t1 - t0)
+            prof.add("referee", wallclock.perf_counter() - t1)
 
     def advance_frame(self) -> None:
         """Run physics steps until the next cognition frame, run that frame and stop before the
@@ -394,10 +407,16 @@ class Match:
         if self.camera_model is not None or self.image_renderer is not None:
             hz, latency = self.config.cognition_hz, self.config.percepts.latency
             while self.time >= self._capture_index / hz - latency - 1e-9:
+                t0 = wallclock.perf_counter()
                 self._captures.append(self.capture() if self.camera_model is not None else self.capture_images())
                 self._capture_index += 1
+                if self.profile is not None:
+                    self.profile.add("camera", wallclock.perf_counter() - t0)
         if self.time >= self._next_cognition - 1e-9:
+            t0 = wallclock.perf_counter()
             self._cognition()
+            if self.profile is not None:
+                self.profile.cognition_frames += wallclock.perf_counter() - t0
             self._next_cognition += 1.0 / self.config.cognition_hz
             return True
         return False
@@ -494,7 +513,13 @@ class Match:
                 if robot.team not in oracle_cache:
                     oracle_cache[robot.team] = self._oracle_poses(robot.team)
                 oracle = self._oracle_for(robot.team, robot.number, oracle_cache[robot.team])
-            out = brain.think(frame, oracle)
+            if self.profile is None:
+                out = brain.think(frame, oracle)
+            else:
+                t0 = wallclock.perf_counter()
+                out = brain.think(frame, oracle)
+                self.profile.brains += wallclock.perf_counter() - t0
+                self.profile.robot_frames += 1
             estimate = getattr(brain, "pose", None)
             if isinstance(estimate, RobotPose) and not robot.penalized:
                 truth = world_to_team(self.referee.sign(robot.team), *robot.pose)

@@ -37,6 +37,7 @@ from cognition.brain import BrainContext
 from cognition.gamestate import GameStateId, SetPlay
 from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
+from cognition.profiling import NO_LAPS, Laps
 from cognition.representations import BrainOutput, MotionRequest, RobotPose, SensorFrame
 from cognition.vision import VisionParams
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, Teammate, TruthBeliefs
@@ -118,6 +119,7 @@ class ScriptedBrain:
         """The latest pose estimate (cognition beliefs only; the match records its error)."""
         self.role = Role.NONE
         self.state = "stand"
+        self._laps: Laps = NO_LAPS
 
     def reset(self, context: BrainContext) -> None:
         """Build the belief provider, skills and head control for a new match."""
@@ -135,6 +137,7 @@ class ScriptedBrain:
         self.role = Role.NONE
         self.state = "stand"
         self._last_message = -1e9
+        self._laps = context.laps()
 
     def rejected_inputs(self) -> dict[str, int]:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
@@ -151,9 +154,11 @@ class ScriptedBrain:
             b = self.provider.update(frame, (me.x, me.y, me.theta) if me is not None else None)
             self.pose = b.pose
         self.beliefs = b
+        laps = self._laps.start()
         self.state = self._transition(b)
         motion = self._act(b)
         motion = replace(motion, head=self.head.request(b))
+        laps.lap("behaviour")
         message = None
         if isinstance(self.provider, CognitionBeliefs) and message_due(
             frame.game, self.context.team_number, self.context.players_per_team, frame.time,
@@ -161,6 +166,7 @@ class ScriptedBrain:
         ):  # fmt: skip
             self._last_message = frame.time
             message = self.provider.message(self.role)
+            laps.lap("team message out")
         return BrainOutput(motion=motion, message=message)
 
     def _transition(self, b: Beliefs) -> str:

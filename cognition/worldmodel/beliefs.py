@@ -220,6 +220,7 @@ class CognitionBeliefs:
         self.vision_params = vision or VisionParams()
         self.vision: Vision | None = None
         """The vision pipeline, built at the first frame that carries a camera image."""
+        self._laps = context.laps()
 
     def rejected_inputs(self) -> dict[str, int]:
         """Inputs dropped so far, by kind: odometry (:mod:`cognition.inputs`), the localizer's
@@ -232,20 +233,31 @@ class CognitionBeliefs:
 
     def update(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> Beliefs:
         """Run localization and the world model on one frame (``true_pose``: only for ``oracle``)."""
+        laps = self._laps.start()
         frame = self.inputs.frame(frame)
+        laps.lap("input check")
         if frame.percepts is None and frame.image is not None:
             frame = self._see(frame)
+            laps.lap("vision")
         started = time.thread_time()
         pose = self.localizer.update(frame, true_pose if self.variant == "oracle" else None)
         self.localization_cpu_seconds += time.thread_time() - started
+        laps.lap("localization")
         mates = self.team.update(frame)
+        laps.lap("team messages")
         ball = self.ball_model.update(frame, pose, mates)
+        laps.lap("ball model")
         belief = self.hypotheses.update(frame, pose, mates)
+        laps.lap("ball hypotheses")
         tb = team_ball(ball, pose, self.context.player_number, mates, limits=self.team.limits)
+        laps.lap("team ball")
         self.obstacle_model = self.obstacles.update(frame.time, frame.odometry, frame.percepts)
+        laps.lap("obstacles")
         o = frame.odometry
         self.goal_model.move_robot(o.dx, o.dy, o.dtheta, 1.0 / self.context.cognition_hz)
         self.goal_model.add_percepts(frame.percepts)
+        goal = self.goal_model.estimate()
+        laps.lap("goal model")
         received = {number: t for number, (t, _) in self.team.latest.items()}
         teammates = tuple(
             Teammate(
@@ -256,9 +268,10 @@ class CognitionBeliefs:
             for m in sorted(mates, key=lambda m: m.player)
         )  # fmt: skip
         self.latest = Beliefs.of_frame(
-            frame, self.context.player_number, pose, ball, tb, self.goal_model.estimate(), teammates,
-            self.obstacle_model.obstacles, belief.look_at, "cognition",
+            frame, self.context.player_number, pose, ball, tb, goal, teammates, self.obstacle_model.obstacles,
+            belief.look_at, "cognition",
         )  # fmt: skip
+        laps.lap("beliefs")
         return self.latest
 
     def _see(self, frame: SensorFrame) -> SensorFrame:

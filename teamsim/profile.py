@@ -1,0 +1,82 @@
+"""Where the time of a match goes: ``teamsim match --profile``.
+
+``Match(config, profile=True)`` times its own stages and hands every brain one shared
+:class:`~cognition.profiling.ModuleProfile` through its context, into which the brains of the
+cognition stack add the time of each of their modules (:mod:`cognition.profiling`). The table
+divides every total by the robot-frames played (brain calls), so the rows add up to the wall
+time of one robot's cognition frame including its share of the world's work:
+
+=========================  ===================================================================
+row                        what it times
+=========================  ===================================================================
+physics                    the world's physics steps (pymunk, robots, ball)
+referee                    the referee after every physics step
+camera                     percept synthesis, or rendering the camera images with their effects
+cognition: MODULE          one module of the brains (input check, vision, localization, team
+                           messages, ball model, ball hypotheses, team ball, obstacles, goal
+                           model, beliefs, behaviour, team message out)
+cognition: other           the rest of the brains' time (brains that time no modules: all of it)
+match glue                 the match's side of a cognition frame: sensor frames, odometry, team
+                           channel, error bookkeeping, commands
+other                      the rest of the run (events, the step loop, callbacks such as video)
+=========================  ===================================================================
+
+Timing costs a few ``perf_counter`` calls per stage and module; the match's results are the
+same with and without a profile.
+"""
+
+from __future__ import annotations
+
+import time
+
+from cognition.profiling import ModuleProfile
+
+__all__ = ["MatchProfile"]
+
+
+class MatchProfile:
+    """Seconds per stage of one match (module table), and the brains' modules."""
+
+    WORLD = ("physics", "referee", "camera")
+
+    def __init__(self) -> None:
+        self.seconds: dict[str, float] = dict.fromkeys(self.WORLD, 0.0)
+        self.brains = 0.0
+        """Seconds inside the brains' ``think`` calls."""
+        self.cognition_frames = 0.0
+        """Seconds inside the match's cognition frames, brains included."""
+        self.robot_frames = 0
+        """Brain calls (robots times cognition frames)."""
+        self.modules = ModuleProfile()
+        """The brains' modules (shared by every brain of the match)."""
+        self.wall = 0.0
+        """Seconds of :meth:`teamsim.match.Match.run` and friends while profiled."""
+        self._started = time.perf_counter()
+
+    def add(self, stage: str, seconds: float) -> None:
+        self.seconds[stage] = self.seconds.get(stage, 0.0) + seconds
+
+    def rows(self, wall: float) -> list[tuple[str, float]]:
+        """(row, seconds) of the module table, for a run of ``wall`` seconds."""
+        out = [(name, self.seconds[name]) for name in self.WORLD]
+        modules = self.modules.seconds
+        out += [(f"cognition: {name}", s) for name, s in modules.items()]
+        out.append(("cognition: other", max(0.0, self.brains - self.modules.total())))
+        out.append(("match glue", max(0.0, self.cognition_frames - self.brains)))
+        counted = sum(s for _, s in out)
+        out.append(("other", max(0.0, wall - counted)))
+        return out
+
+    def format(self, wall: float, simulated: float) -> str:
+        """The table: microseconds per robot-frame and share of the wall time per row."""
+        n = max(1, self.robot_frames)
+        lines = [
+            f"profile        {self.robot_frames} robot-frames in {wall:.1f} s wall "
+            f"({simulated:.1f} s simulated, {simulated / wall if wall > 0 else 0.0:.1f}x real time)",
+            f"  {'stage':32s} {'us per robot-frame':>18s} {'share':>7s}",
+        ]
+        for name, s in self.rows(wall):
+            share = 100.0 * s / wall if wall > 0 else 0.0
+            lines.append(f"  {name:32s} {1e6 * s / n:18.1f} {share:6.1f}%")
+        lines.append(f"  {'total':32s} {1e6 * wall / n:18.1f} {100.0:6.1f}%")
+        return "\n".join(lines)
