@@ -50,7 +50,9 @@ option                meaning
 ``processes``         worker processes that step the environments, 1..``n_envs`` (default 1: in the training
                       process). The tasks run one copy per process (``SubprocVecEnv``), so ``processes`` is 1
                       or ``n_envs``; ``soccer_v0`` spreads its matches over them. The observations, and so the
-                      trained model, are the same bit for bit as with 1 process
+                      trained model, are the same bit for bit as with 1 process. The workers start a fresh
+                      interpreter (forkserver), so a script that calls :func:`train` with ``processes`` > 1
+                      needs an ``if __name__ == "__main__":`` guard
 ``checkpoint_every``  environment steps between checkpoints (default 10,000)
 ``progress_bar``      SB3's progress bar (needs tqdm and rich)
 ``hyperparams``       keyword arguments of the SB3 algorithm over :data:`DEFAULT_HYPERPARAMS`; checked
