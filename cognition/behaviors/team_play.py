@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import ClassVar
 
 from cognition.behaviors.head_control import HeadControl, HeadParams
 from cognition.behaviors.message_budget import message_due
@@ -37,7 +38,6 @@ from cognition.brain import BrainContext
 from cognition.gamestate import GameStateId, SetPlay
 from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
-from cognition.profiling import NO_LAPS, Laps
 from cognition.representations import BrainOutput, MotionRequest, RobotPose, SensorFrame
 from cognition.vision import VisionParams
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, Teammate, TruthBeliefs
@@ -119,7 +119,9 @@ class ScriptedBrain:
         """The latest pose estimate (cognition beliefs only; the match records its error)."""
         self.role = Role.NONE
         self.state = "stand"
-        self._laps: Laps = NO_LAPS
+        self._frame: SensorFrame | None = None
+        self._motion = MotionRequest()
+        self._message: bytes | None = None
 
     def reset(self, context: BrainContext) -> None:
         """Build the belief provider, skills and head control for a new match."""
@@ -137,37 +139,73 @@ class ScriptedBrain:
         self.role = Role.NONE
         self.state = "stand"
         self._last_message = -1e9
-        self._laps = context.laps()
 
     def rejected_inputs(self) -> dict[str, int]:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
         return self.provider.rejected_inputs() if isinstance(self.provider, CognitionBeliefs) else {}
 
+    # -- the frame, stage by stage (:class:`cognition.brain.StagedBrain`) ----------------------
+    BEHAVIOUR_STAGES: ClassVar[tuple[str, ...]] = ("behaviour", "team message out")
+
+    @property
+    def stages(self) -> tuple[str, ...]:
+        """The modules of one frame: the belief provider's, then behaviour and the team message."""
+        if self.provider is None:
+            raise RuntimeError("ScriptedBrain.stages read before reset()")
+        return self.provider.STAGES + self.BEHAVIOUR_STAGES
+
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
-        """Update the beliefs, choose the state, act."""
+        """Update the beliefs, choose the state, act (every stage of :attr:`stages` in order)."""
+        self.begin(frame, oracle)
+        for stage in self.stages:
+            self.run_stage(stage)
+        return self.finish()
+
+    def begin(self, frame: SensorFrame, oracle: OracleInput | None) -> None:
+        """Start a frame."""
         if self.provider is None or self.context is None:
             raise RuntimeError("ScriptedBrain.think called before reset()")
+        self._frame = frame
+        self._message = None
         if isinstance(self.provider, TruthBeliefs):
-            b = self.provider.update(frame, oracle)
+            self.provider.begin(frame, oracle)
         else:
             me = oracle.self_pose if oracle is not None else None
-            b = self.provider.update(frame, (me.x, me.y, me.theta) if me is not None else None)
+            self.provider.begin(frame, (me.x, me.y, me.theta) if me is not None else None)
+
+    def run_stage(self, stage: str) -> None:
+        """Run the module ``stage`` of :attr:`stages` on the current frame."""
+        if stage == "behaviour":
+            self._behave()
+        elif stage == "team message out":
+            self._message_out()
+        else:
+            assert self.provider is not None
+            self.provider.run_stage(stage)
+
+    def finish(self) -> BrainOutput:
+        """The motion request and team message of the frame."""
+        return BrainOutput(motion=self._motion, message=self._message)
+
+    def _behave(self) -> None:
+        assert self.provider is not None
+        b = self.provider.finish()
+        if isinstance(self.provider, CognitionBeliefs):
             self.pose = b.pose
         self.beliefs = b
-        laps = self._laps.start()
         self.state = self._transition(b)
         motion = self._act(b)
-        motion = replace(motion, head=self.head.request(b))
-        laps.lap("behaviour")
-        message = None
+        self._motion = replace(motion, head=self.head.request(b))
+
+    def _message_out(self) -> None:
+        assert self.context is not None
+        frame = self._frame
         if isinstance(self.provider, CognitionBeliefs) and message_due(
             frame.game, self.context.team_number, self.context.players_per_team, frame.time,
             self._last_message, self.message_interval,
         ):  # fmt: skip
             self._last_message = frame.time
-            message = self.provider.message(self.role)
-            laps.lap("team message out")
-        return BrainOutput(motion=motion, message=message)
+            self._message = self.provider.message(self.role)
 
     def _transition(self, b: Beliefs) -> str:
         assert self.context is not None

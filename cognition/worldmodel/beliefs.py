@@ -30,8 +30,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -220,7 +221,15 @@ class CognitionBeliefs:
         self.vision_params = vision or VisionParams()
         self.vision: Vision | None = None
         """The vision pipeline, built at the first frame that carries a camera image."""
-        self._laps = context.laps()
+        # the representations of the current frame, written and read by the stages in order
+        self._frame: SensorFrame
+        self._true_pose: tuple[float, float, float] | None = None
+        self._pose: RobotPose
+        self._mates: list[TeamMessage] = []
+        self._ball_now: BallModel
+        self._look_at: tuple[float, float] | None = None
+        self._team_ball_now: TeamBallEstimate | None = None
+        self._goal_now: GoalEstimate | None = None
 
     def rejected_inputs(self) -> dict[str, int]:
         """Inputs dropped so far, by kind: odometry (:mod:`cognition.inputs`), the localizer's
@@ -231,33 +240,74 @@ class CognitionBeliefs:
             {f"team_message_{reason}": n for reason, n in self.team.rejected_by_reason.items()},
         )
 
+    # -- the frame, stage by stage -----------------------------------------------------------
+    STAGES: ClassVar[tuple[str, ...]] = (
+        "input check", "vision", "localization", "team messages", "ball model", "ball hypotheses", "team ball",
+        "obstacles", "goal model", "beliefs",
+    )  # fmt: skip
+    """The modules of one frame, in order (:meth:`run_stage`); ``vision`` does nothing on a frame
+    that carries percepts."""
+
     def update(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> Beliefs:
-        """Run localization and the world model on one frame (``true_pose``: only for ``oracle``)."""
-        laps = self._laps.start()
-        frame = self.inputs.frame(frame)
-        laps.lap("input check")
-        if frame.percepts is None and frame.image is not None:
-            frame = self._see(frame)
-            laps.lap("vision")
+        """Run localization and the world model on one frame (``true_pose``: only for ``oracle``):
+        :meth:`begin`, every stage of :data:`STAGES` in order, :meth:`finish`."""
+        self.begin(frame, true_pose)
+        for stage in self.STAGES:
+            self.run_stage(stage)
+        return self.finish()
+
+    def begin(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> None:
+        """Start a frame; the stages then read and write its representations on this object."""
+        self._frame = frame
+        self._true_pose = true_pose
+
+    def run_stage(self, stage: str) -> None:
+        """Run the module ``stage`` (one of :data:`STAGES`, in order) on the current frame."""
+        _STAGE_METHODS[stage](self)
+
+    def finish(self) -> Beliefs:
+        """The beliefs of the frame (after the ``beliefs`` stage)."""
+        assert self.latest is not None
+        return self.latest
+
+    def _input_check(self) -> None:
+        self._frame = self.inputs.frame(self._frame)
+
+    def _vision(self) -> None:
+        if self._frame.percepts is None and self._frame.image is not None:
+            self._frame = self._see(self._frame)
+
+    def _localize(self) -> None:
         started = time.thread_time()
-        pose = self.localizer.update(frame, true_pose if self.variant == "oracle" else None)
+        self._pose = self.localizer.update(self._frame, self._true_pose if self.variant == "oracle" else None)
         self.localization_cpu_seconds += time.thread_time() - started
-        laps.lap("localization")
-        mates = self.team.update(frame)
-        laps.lap("team messages")
-        ball = self.ball_model.update(frame, pose, mates)
-        laps.lap("ball model")
-        belief = self.hypotheses.update(frame, pose, mates)
-        laps.lap("ball hypotheses")
-        tb = team_ball(ball, pose, self.context.player_number, mates, limits=self.team.limits)
-        laps.lap("team ball")
-        self.obstacle_model = self.obstacles.update(frame.time, frame.odometry, frame.percepts)
-        laps.lap("obstacles")
-        o = frame.odometry
+
+    def _team_messages(self) -> None:
+        self._mates = self.team.update(self._frame)
+
+    def _ball(self) -> None:
+        self._ball_now = self.ball_model.update(self._frame, self._pose, self._mates)
+
+    def _ball_hypotheses(self) -> None:
+        self._look_at = self.hypotheses.update(self._frame, self._pose, self._mates).look_at
+
+    def _team_ball(self) -> None:
+        self._team_ball_now = team_ball(
+            self._ball_now, self._pose, self.context.player_number, self._mates, limits=self.team.limits
+        )
+
+    def _obstacles(self) -> None:
+        f = self._frame
+        self.obstacle_model = self.obstacles.update(f.time, f.odometry, f.percepts)
+
+    def _goal(self) -> None:
+        o = self._frame.odometry
         self.goal_model.move_robot(o.dx, o.dy, o.dtheta, 1.0 / self.context.cognition_hz)
-        self.goal_model.add_percepts(frame.percepts)
-        goal = self.goal_model.estimate()
-        laps.lap("goal model")
+        self.goal_model.add_percepts(self._frame.percepts)
+        self._goal_now = self.goal_model.estimate()
+
+    def _beliefs(self) -> None:
+        frame = self._frame
         received = {number: t for number, (t, _) in self.team.latest.items()}
         teammates = tuple(
             Teammate(
@@ -265,14 +315,13 @@ class CognitionBeliefs:
                 role=m.role, fallen=m.fallen, penalized=m.penalized,
                 ball_x=m.ball_x if m.ball_valid else math.nan, ball_y=m.ball_y if m.ball_valid else math.nan,
             )
-            for m in sorted(mates, key=lambda m: m.player)
+            for m in sorted(self._mates, key=lambda m: m.player)
         )  # fmt: skip
+        assert self.obstacle_model is not None
         self.latest = Beliefs.of_frame(
-            frame, self.context.player_number, pose, ball, tb, goal, teammates, self.obstacle_model.obstacles,
-            belief.look_at, "cognition",
+            frame, self.context.player_number, self._pose, self._ball_now, self._team_ball_now, self._goal_now,
+            teammates, self.obstacle_model.obstacles, self._look_at, "cognition",
         )  # fmt: skip
-        laps.lap("beliefs")
-        return self.latest
 
     def _see(self, frame: SensorFrame) -> SensorFrame:
         """The frame with the percepts its camera image shows (the image observation path)."""
@@ -315,6 +364,22 @@ class CognitionBeliefs:
         return msg.pack()
 
 
+_STAGE_METHODS: dict[str, Callable[[CognitionBeliefs], None]] = {
+    "input check": CognitionBeliefs._input_check,
+    "vision": CognitionBeliefs._vision,
+    "localization": CognitionBeliefs._localize,
+    "team messages": CognitionBeliefs._team_messages,
+    "ball model": CognitionBeliefs._ball,
+    "ball hypotheses": CognitionBeliefs._ball_hypotheses,
+    "team ball": CognitionBeliefs._team_ball,
+    "obstacles": CognitionBeliefs._obstacles,
+    "goal model": CognitionBeliefs._goal,
+    "beliefs": CognitionBeliefs._beliefs,
+}
+"""The method of each stage of :data:`CognitionBeliefs.STAGES`."""
+assert tuple(_STAGE_METHODS) == CognitionBeliefs.STAGES
+
+
 class TruthBeliefs:
     """Beliefs read from the oracle input: the true pose (zero covariance), the true ball (always
     ``valid``, age 0), every robot, and the opponent goal from the field map."""
@@ -325,6 +390,24 @@ class TruthBeliefs:
         half_goal = 0.5 * (f.dims.goal_inner_width + f.dims.goal_post_diameter)
         self._goal = (f.half_length, half_goal)
         self.latest: Beliefs | None = None
+        self._pending: tuple[SensorFrame, OracleInput | None] | None = None
+
+    STAGES: ClassVar[tuple[str, ...]] = ("truth beliefs",)
+    """The one module of a frame (:meth:`update` as a stage)."""
+
+    def begin(self, frame: SensorFrame, oracle: OracleInput | None) -> None:
+        """Start a frame (stage interface of :class:`CognitionBeliefs`)."""
+        self._pending = (frame, oracle)
+
+    def run_stage(self, stage: str) -> None:
+        if stage != "truth beliefs":
+            raise ValueError(f"TruthBeliefs has no stage {stage!r}; stages: {list(self.STAGES)}")
+        assert self._pending is not None
+        self.update(*self._pending)
+
+    def finish(self) -> Beliefs:
+        assert self.latest is not None
+        return self.latest
 
     def update(self, frame: SensorFrame, oracle: OracleInput | None) -> Beliefs:
         """Turn this frame's oracle input into beliefs."""
