@@ -215,6 +215,8 @@ class PolicyBrain:
         self.kicks = 0
         """Kick requests issued so far."""
         self._pending: tuple[SensorFrame, OracleInput | None] | None = None
+        self._frame: tuple[SensorFrame, OracleInput | None] | None = None
+        self._output = BrainOutput(motion=MotionRequest())
 
     def reset(self, context: BrainContext) -> None:
         """Build the belief provider, the skills and the observation builder."""
@@ -240,10 +242,44 @@ class PolicyBrain:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
         return self.provider.rejected_inputs() if isinstance(self.provider, CognitionBeliefs) else {}
 
+    # -- the frame, stage by stage (:class:`cognition.brain.StagedBrain`) ----------------------
+    @property
+    def stages(self) -> tuple[str, ...]:
+        """The modules of one frame: the cognition stack's (none on truth beliefs), then the action."""
+        if isinstance(self.provider, CognitionBeliefs):
+            return (*self.provider.STAGES, "policy action")
+        return ("policy action",)
+
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
-        """Update the beliefs, then carry out the current action."""
+        """Update the beliefs, then carry out the current action (every stage in order)."""
+        self.begin(frame, oracle)
+        for stage in self.stages:
+            self.run_stage(stage)
+        return self.finish()
+
+    def begin(self, frame: SensorFrame, oracle: OracleInput | None) -> None:
+        """Start a frame."""
         if self.provider is None or self.context is None:
             raise RuntimeError("PolicyBrain.think called before reset()")
+        self._frame = (frame, oracle)
+        if isinstance(self.provider, CognitionBeliefs):
+            me = oracle.self_pose if oracle is not None else None
+            self.provider.begin(frame, (me.x, me.y, me.theta) if me is not None else None)
+
+    def run_stage(self, stage: str) -> None:
+        """Run one stage of :attr:`stages`: a module of the cognition stack, or the action."""
+        if stage == "policy action":
+            self._output = self._carry_out()
+        else:
+            assert isinstance(self.provider, CognitionBeliefs)
+            self.provider.run_stage(stage)
+
+    def finish(self) -> BrainOutput:
+        """The motion (and team message) of the frame."""
+        return self._output
+
+    def _carry_out(self) -> BrainOutput:
+        frame, oracle = self._frame
         if isinstance(self.provider, TruthBeliefs):
             # the oracle providers hold no state: read the truth only when it is needed
             self._pending = (frame, oracle)
@@ -254,8 +290,8 @@ class PolicyBrain:
                 return BrainOutput(motion=self._count(continuous_motion(self.action, self.params)))  # type: ignore[arg-type]
             self.beliefs = self.provider.update(frame, oracle)
         else:
-            me = oracle.self_pose if oracle is not None else None
-            self.beliefs = self.provider.update(frame, (me.x, me.y, me.theta) if me is not None else None)
+            assert self.provider is not None
+            self.beliefs = self.provider.finish()
             self.pose = self.beliefs.pose
         return BrainOutput(motion=self.motion(), message=self._message(frame))
 
