@@ -8,6 +8,10 @@ run on a robot.
 A brain may also offer ``rejected_inputs() -> dict[str, int]``: how many sensor inputs of
 each kind it could not use (:mod:`cognition.inputs`); :func:`rejected_inputs` reads it.
 
+A brain whose frame is a fixed sequence of named stages (its modules) may declare them
+(:class:`StagedBrain`); a simulator then runs one frame of all its robots with
+:func:`think_all`, stage by stage over the robots, which gives the same outputs faster.
+
 The single exception is the *oracle* input: a brain whose ``uses_oracle`` attribute is
 ``True`` also receives an :class:`~cognition.oracle.OracleInput` with ground truth. Oracle
 brains exist for baselines and for the foundation's scripted players; every other brain gets
