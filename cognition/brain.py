@@ -96,6 +96,15 @@ class StagedBrain(Brain, Protocol):
         ...
 
 
+def think_by_stages(brain: StagedBrain, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
+    """One frame of a staged brain on its own: ``begin``, every stage in order, ``finish`` (what
+    its ``think`` must equal)."""
+    brain.begin(frame, oracle)
+    for stage in brain.stages:
+        brain.run_stage(stage)
+    return brain.finish()
+
+
 _STAGED: dict[type, bool] = {}
 """Whether each brain class seen by :func:`think_all` is a :class:`StagedBrain`."""
 

@@ -377,8 +377,8 @@ class Match:
         t1 = wallclock.perf_counter() if prof is not None else 0.0
         self.referee.update(self.time, events)
         if prof is not None:
-            prof.add("physics", t1 - t0)
-            prof.add("referee", wallclock.perf_counter() - t1)
+            prof.world.add("physics", t1 - t0)
+            prof.world.add("referee", wallclock.perf_counter() - t1)
 
     def advance_frame(self) -> None:
         """Run physics steps until the next cognition frame, run that frame and stop before the
@@ -410,7 +410,7 @@ class Match:
                 self._captures.append(self.capture() if self.camera_model is not None else self.capture_images())
                 self._capture_index += 1
                 if self.profile is not None:
-                    self.profile.add("camera", wallclock.perf_counter() - t0)
+                    self.profile.world.add("camera", wallclock.perf_counter() - t0)
         if self.time >= self._next_cognition - 1e-9:
             t0 = wallclock.perf_counter()
             self._cognition()

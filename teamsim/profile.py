@@ -28,8 +28,6 @@ same with and without a profile.
 
 from __future__ import annotations
 
-import time
-
 from cognition.profiling import ModuleProfile
 
 __all__ = ["MatchProfile"]
@@ -41,25 +39,20 @@ class MatchProfile:
     WORLD = ("physics", "referee", "camera")
 
     def __init__(self) -> None:
-        self.seconds: dict[str, float] = dict.fromkeys(self.WORLD, 0.0)
+        self.world = ModuleProfile()
+        """Seconds of the match's own stages (:data:`WORLD`)."""
         self.brains = 0.0
-        """Seconds inside the brains' ``think`` calls."""
+        """Seconds inside the brains' frames (:func:`cognition.brain.think_all`)."""
         self.cognition_frames = 0.0
         """Seconds inside the match's cognition frames, brains included."""
         self.robot_frames = 0
         """Brain calls (robots times cognition frames)."""
         self.modules = ModuleProfile()
-        """The brains' modules (shared by every brain of the match)."""
-        self.wall = 0.0
-        """Seconds of :meth:`teamsim.match.Match.run` and friends while profiled."""
-        self._started = time.perf_counter()
-
-    def add(self, stage: str, seconds: float) -> None:
-        self.seconds[stage] = self.seconds.get(stage, 0.0) + seconds
+        """The brains' modules, as :func:`cognition.brain.think_all` timed them."""
 
     def rows(self, wall: float) -> list[tuple[str, float]]:
         """(row, seconds) of the module table, for a run of ``wall`` seconds."""
-        out = [(name, self.seconds[name]) for name in self.WORLD]
+        out = [(name, self.world.seconds.get(name, 0.0)) for name in self.WORLD]
         modules = self.modules.seconds
         out += [(f"cognition: {name}", s) for name, s in modules.items()]
         out.append(("cognition: other", max(0.0, self.brains - self.modules.total())))

@@ -64,7 +64,7 @@ from numpy.typing import NDArray
 
 from cognition.behaviors.message_budget import message_due
 from cognition.behaviors.observation import ObservationBuilder
-from cognition.brain import BrainContext
+from cognition.brain import BrainContext, think_by_stages
 from cognition.oracle import OracleInput
 from cognition.params import Range, Ranges, check_ranges, positive
 from cognition.representations import BrainOutput, HeadRequest, KickRequest, MotionRequest, SensorFrame, WalkRequest
@@ -252,10 +252,7 @@ class PolicyBrain:
 
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Update the beliefs, then carry out the current action (every stage in order)."""
-        self.begin(frame, oracle)
-        for stage in self.stages:
-            self.run_stage(stage)
-        return self.finish()
+        return think_by_stages(self, frame, oracle)
 
     def begin(self, frame: SensorFrame, oracle: OracleInput | None) -> None:
         """Start a frame."""

@@ -34,7 +34,7 @@ from typing import ClassVar
 from cognition.behaviors.head_control import HeadControl, HeadParams
 from cognition.behaviors.message_budget import message_due
 from cognition.behaviors.skills import SkillParams, Skills
-from cognition.brain import BrainContext
+from cognition.brain import BrainContext, think_by_stages
 from cognition.gamestate import GameStateId, SetPlay
 from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
@@ -156,10 +156,7 @@ class ScriptedBrain:
 
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Update the beliefs, choose the state, act (every stage of :attr:`stages` in order)."""
-        self.begin(frame, oracle)
-        for stage in self.stages:
-            self.run_stage(stage)
-        return self.finish()
+        return think_by_stages(self, frame, oracle)
 
     def begin(self, frame: SensorFrame, oracle: OracleInput | None) -> None:
         """Start a frame."""
