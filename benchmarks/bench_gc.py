@@ -36,6 +36,7 @@ from pathlib import Path
 
 from benchmarks.common import write_figures
 from cognition.gamestate import GameControlData
+from cognition.pipeline import CognitionConfig
 from cognition.returndata import ReturnData
 from teamsim.gc_bridge import BridgeParams, BridgeStats, GameControllerBridge, decode_game_control, decode_return
 from teamsim.match import Match, MatchConfig
@@ -79,7 +80,7 @@ def decode_costs() -> dict[str, float]:
 
 def flood(kind: str, rate: float, seconds: float) -> dict[str, float]:
     """Run the default match in listen mode for ``seconds`` while ``rate`` packets/s arrive."""
-    match = Match(MatchConfig(localization="maturing"), external_referee=True)
+    match = Match(MatchConfig(cognition=CognitionConfig()), external_referee=True)
     match.run(until=0.5)  # compile and warm up before the clock starts
     with GameControllerBridge(match, BridgeParams("listen", gc_port=0, timeout=3600.0)) as bridge:
         sender = subprocess.Popen(

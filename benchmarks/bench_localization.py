@@ -34,6 +34,7 @@ import numpy as np
 from benchmarks.common import record_robot_frames, write_figures
 from cognition.localization import LocalizationParams, make_localizer
 from cognition.localization.sensor import pack_observations, sensor_table
+from cognition.pipeline import CognitionConfig
 from cognition.representations import SensorFrame
 from teamsim.match import Match, MatchConfig
 
@@ -66,7 +67,7 @@ def time_updates(match: Match, frames: list[SensorFrame], variant: str, n: int) 
 
 def match_share(seconds: float, variant: str = "lowvar") -> tuple[float, float]:
     """(share of wall time in ``Localizer.update``, real-time factor) of a 5 v 5 match."""
-    match = Match(MatchConfig(seed=2, localization=variant))
+    match = Match(MatchConfig(seed=2, cognition=CognitionConfig(localization=variant)))
 
     def spent() -> float:  # CPU seconds of every brain's localizer so far (CognitionBeliefs counts them)
         return sum(getattr(getattr(b, "provider", None), "localization_cpu_seconds", 0.0) for b in match.brains)

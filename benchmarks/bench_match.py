@@ -62,6 +62,7 @@ from pathlib import Path
 from typing import Any
 
 from benchmarks.common import write_figures
+from cognition.pipeline import CognitionConfig
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
 
@@ -76,8 +77,8 @@ def _targets() -> list[tuple[Any, str, str]]:
     import cognition.behaviors.head_control as head_control
     import cognition.behaviors.team_play as team_play
     import cognition.localization.base as loc_base
+    import cognition.modules as modules
     import cognition.worldmodel.ball as ball
-    import cognition.worldmodel.beliefs as beliefs
     import cognition.worldmodel.goal as goal
     import cognition.worldmodel.hypotheses as hypotheses
     import cognition.worldmodel.obstacles as obstacles
@@ -102,7 +103,7 @@ def _targets() -> list[tuple[Any, str, str]]:
         (ball.KalmanBallModel, "update", "kalman ball"),
         (hypotheses.BallHypotheses, "update", "ball hypotheses"),
         (team.TeamState, "update", "team"),
-        (beliefs, "team_ball", "team"),
+        (modules, "team_ball", "team"),
         (obstacles.ObstacleSectors, "update", "obstacles"),
         (obstacles.ObstacleGrid, "update", "obstacles"),
         (goal.GoalModel, "move_robot", "goal model"),
@@ -153,7 +154,8 @@ def stage_timers() -> Iterator[dict[str, float]]:
 def play(observation: str, half_seconds: float, seed: int, localization: str | None) -> tuple[Match, float, float]:
     """One default 5 v 5 match; returns it with its wall and CPU seconds of ``run``."""
     config = MatchConfig(
-        seed=seed, observation=observation, localization=localization,  # type: ignore[arg-type]
+        seed=seed, observation=observation,
+        cognition=None if localization is None else CognitionConfig(localization=localization),
         referee=RefereeParams(half_seconds=half_seconds),
     )  # fmt: skip
     match = Match(config)

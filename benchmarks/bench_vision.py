@@ -41,6 +41,7 @@ import numpy as np
 from benchmarks.bench_percepts import record_scenes
 from benchmarks.common import write_figures
 from cognition.camera import CameraMatrix, CameraRig
+from cognition.pipeline import CognitionConfig
 from cognition.vision import METHODS, Vision, VisionParams
 from teamsim.images import ImageRenderer
 from teamsim.match import Match, MatchConfig
@@ -86,7 +87,7 @@ def bench_match(observation: str, seconds: float, seeds: int) -> tuple[float, fl
     errors = []
     for seed in range(seeds):
         config = MatchConfig(
-            seed=seed, observation=observation, localization="maturing",
+            seed=seed, observation=observation, cognition=CognitionConfig(),  # maturing
             referee=RefereeParams(half_seconds=seconds / 2),
         )  # fmt: skip
         match = Match(config)

@@ -53,6 +53,9 @@ class BrainContext:
     """Colours of goals, ball and jerseys, for vision on camera images (``None``: the ``modern`` scheme)."""
     team: int = 0
     """Own jersey: index into ``colours.team_colours`` (0 or 1)."""
+    observation: str = "percepts"
+    """What the sensor frames carry: ``percepts``, a camera ``images``, or ``none`` (the keys of
+    :data:`cognition.pipeline.OBSERVATIONS`); the cognition pipeline is planned for it."""
 
 
 @runtime_checkable

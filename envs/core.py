@@ -50,6 +50,7 @@ from cognition.brain import Brain
 from cognition.field import make_colour_scheme
 from cognition.gamestate import GameStateId, SetPlay
 from cognition.localization import VARIANTS
+from cognition.pipeline import TRUTH, CognitionConfig
 from cognition.positions import kickoff_position
 from cognition.worldmodel.beliefs import CognitionBeliefs
 from teamsim.match import MAX_PLAYERS_PER_TEAM, Match, MatchConfig
@@ -229,13 +230,7 @@ class SoccerCore:
 
         def brains(team: int, number: int) -> Brain:
             if (team, number) in controlled and self.agents_filter(team, number):
-                brain = PolicyBrain(
-                    c.action_type,
-                    beliefs="truth" if truth else "cognition",
-                    variant=c.localization,
-                    obstacle_model=c.obstacle_model,
-                    params=ActionParams(),
-                )
+                brain = PolicyBrain(c.action_type, cognition=self._cognition(truth), params=ActionParams())
                 self.policies[f"{TEAM_NAMES[team]}_{number}"] = brain
                 return brain
             special = self.drill.brain(team, number, truth) if self.drill is not None else None
@@ -248,8 +243,7 @@ class SoccerCore:
             observation="none" if truth else c.observation,
             percepts=c.percepts,
             images=c.images,
-            localization=None if truth else c.localization,
-            obstacle_model=c.obstacle_model,
+            cognition=None if truth else self._cognition(truth),
             referee=RefereeParams(half_seconds=c.half_seconds),
         )
         self.match = Match(mc, brains=brains)
@@ -276,7 +270,7 @@ class SoccerCore:
         every localizer of the cognition stack starts around its robot's placed pose."""
         for robot, brain in zip(m.world.robots, m.brains, strict=True):
             provider = getattr(brain, "provider", None)
-            if isinstance(provider, CognitionBeliefs):
+            if isinstance(provider, CognitionBeliefs) and provider.localizer is not None:
                 provider.localizer.on_placement(np.array([m.referee.team_pose(robot)], dtype=np.float64))
 
     def _scripted(self, team: int, number: int, truth: bool) -> Brain:
@@ -288,9 +282,13 @@ class SoccerCore:
             return RandomWalkBrain()
         from cognition.behaviors.team_play import ScriptedBrain
 
-        return ScriptedBrain(
-            beliefs="truth" if truth else "cognition", variant=c.localization, obstacle_model=c.obstacle_model
-        )
+        return ScriptedBrain(self._cognition(truth))
+
+    def _cognition(self, truth: bool) -> CognitionConfig:
+        """The cognition frame of every brain: the oracle providers, or the stack with the
+        configured localization and obstacle model."""
+        c = self.config
+        return TRUTH if truth else CognitionConfig(localization=c.localization, obstacles=c.obstacle_model)
 
     def observations(self) -> dict[str, NDArray[np.float32]]:
         """Every agent's observation now."""

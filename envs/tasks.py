@@ -47,6 +47,7 @@ from numpy.typing import NDArray
 from cognition.behaviors.actions import MACROS, PolicyBrain
 from cognition.brain import Brain, BrainContext
 from cognition.gamestate import GameStateId, Penalty, SetPlay
+from cognition.pipeline import TRUTH, CognitionConfig
 from envs.core import EnvConfig, SoccerCore
 from envs.soccer_v0 import action_space_of, observation_space_of
 from teamsim.match import Match
@@ -96,7 +97,7 @@ class DefenderBrain(PolicyBrain):
     """A scripted defender: the ``defend`` macro-action, held for the whole episode."""
 
     def __init__(self, truth: bool):
-        super().__init__("discrete", beliefs="truth" if truth else "cognition")
+        super().__init__("discrete", cognition=TRUTH if truth else CognitionConfig())
 
     def reset(self, context: BrainContext) -> None:
         """Fresh beliefs; the action is ``defend``."""

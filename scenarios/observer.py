@@ -26,12 +26,10 @@ import numpy as np
 
 from cognition.brain import BrainContext
 from cognition.gamestate import GameStateId
-from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
+from cognition.pipeline import CognitionConfig
 from cognition.representations import BrainOutput, HeadRequest, MotionRequest, RobotPose, SensorFrame, WalkRequest
-from cognition.vision import VisionParams
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs
-from cognition.worldmodel.kalman_ball import KalmanBallParams
 
 LOOP_SPEED = 0.2
 """Forward speed on the loop (m/s)."""
@@ -46,25 +44,19 @@ class Observer:
 
     def __init__(
         self,
-        variant: str,
-        params: LocalizationParams | None = None,
-        ball_params: KalmanBallParams | None = None,
+        cognition: CognitionConfig,
         drive: str = "stand",
         head: str = "sweep",
         loop: tuple[tuple[float, float], ...] = (),
         start: tuple[float, float, float] | None = None,
-        vision: VisionParams | None = None,
     ):
-        """``loop`` corners and ``start`` pose are in the robot's team frame (m, rad); ``vision``
-        configures the stack's vision when the match delivers camera images."""
-        self.variant = variant
-        self.params = params
-        self.ball_params = ball_params
+        """``cognition`` is the stack under study (:class:`~cognition.pipeline.CognitionConfig`);
+        ``loop`` corners and ``start`` pose are in the robot's team frame (m, rad)."""
+        self.cognition = cognition
         self.drive = drive
         self.head = head
         self.loop = loop
         self.start = start
-        self.vision = vision
         self.leg = 0
         self.provider: CognitionBeliefs | None = None
         self.beliefs: Beliefs | None = None
@@ -74,8 +66,8 @@ class Observer:
 
     def reset(self, context: BrainContext) -> None:
         """Build the cognition stack; a known start pose seeds the localization."""
-        self.provider = CognitionBeliefs(context, self.variant, self.params, "sectors", self.ball_params, self.vision)
-        if self.start is not None:
+        self.provider = CognitionBeliefs(context, self.cognition)
+        if self.start is not None and self.provider.localizer is not None:
             self.provider.localizer.on_placement(np.array([self.start], dtype=np.float64))
         self.leg = 0
         self.beliefs = self.pose = None
@@ -89,8 +81,7 @@ class Observer:
         if self.provider is None or oracle is None:
             raise RuntimeError("Observer.think needs reset() first and the oracle input")
         me = oracle.self_pose
-        truth = (me.x, me.y, me.theta)
-        self.beliefs = self.provider.update(frame, truth)
+        self.beliefs = self.provider.update(frame, oracle)  # only a declared oracle module reads it
         self.pose = self.beliefs.pose
         if self.head == "ball":
             bearing = math.remainder(math.atan2(oracle.ball_y - me.y, oracle.ball_x - me.x) - me.theta, 2 * math.pi)

@@ -28,6 +28,7 @@ import numpy as np
 
 from cognition.brain import Brain
 from cognition.worldmodel.beliefs import CognitionBeliefs
+from cognition.worldmodel.kalman_ball import KalmanBallParams
 from scenarios.metrics import event_rows, run_row
 from scenarios.observer import Observer
 from scenarios.spec import Scenario, Team, Variant
@@ -51,26 +52,24 @@ class RunOutput:
 def _brain(team: Team, index: int, number: int, variant: Variant, scenario: Scenario, sign: float) -> Brain:
     """The brain of player ``number`` of team ``index`` (home: the variant under study)."""
     rules = scenario.match.referee.rules
-    vision = variant.vision
-    if index == 0:
-        loc, params, ball = variant.localization, variant.localization_params, variant.ball
-    else:
-        loc, params, ball = team.variant, scenario.match.localization_params, None
-    params = dataclasses.replace(params, return_rule=rules)
     if team.brain == "random":
         return random_brains(index, number)
     if team.brain == "truth":
         return scripted_brains(None)(index, number)
-    start = dict(team.start).get(number)
+    home = variant.cognition()  # the away team sees with the same vision, localizes with its own variant
+    cognition = home
+    if index != 0:
+        cognition = dataclasses.replace(home, localization=team.variant, ball_params=KalmanBallParams())
+    lp = dataclasses.replace(cognition.localization_params, return_rule=rules)
+    cognition = dataclasses.replace(cognition, localization_params=lp)
     if team.brain == "scripted":
         from cognition.behaviors.team_play import ScriptedBrain
 
-        return ScriptedBrain(
-            beliefs="cognition", variant=loc, localization_params=params, ball_params=ball, vision=vision
-        )
+        return ScriptedBrain(cognition)
+    start = dict(team.start).get(number)
     loop = tuple((sign * x, sign * y) for x, y in team.loop)
     start_team = world_to_team(sign, *start) if start is not None else None
-    return Observer(loc, params, ball, team.drive, team.head, loop, start_team, vision)
+    return Observer(cognition, team.drive, team.head, loop, start_team)
 
 
 def simulate(scenario: Scenario, variant: str | Variant, seed: int) -> tuple[Trace, Match]:

@@ -18,7 +18,8 @@ variants            (required)  a list of localization variants (``mcl``, ``lowv
                                 ``observation`` (``percepts`` or ``images``: overrides the match's) and
                                 ``vision`` (:class:`~cognition.vision.VisionParams`, for ``images``)
 match               {}          :class:`~teamsim.match.MatchConfig` keys (field, players_per_team, percepts,
-                                referee, ...) except ``seed``, ``events``, ``localization``, ``players``
+                                referee, ...) except ``seed``, ``events``, ``cognition``, ``players`` (the brains
+                                are the teams' and the variants')
 home / away         observer    the teams (below); the **home** team runs the variant under study
 timeline            []          events, each ``[[timeline]]`` table with a ``kind`` (below)
 metrics             all         which groups to compute: ``localization``, ``recovery``, ``ball``, ``goals``
@@ -73,6 +74,7 @@ from cognition.field import FIELD_PRESETS
 from cognition.gamestate import Penalty
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.params import Range, check_choice, check_number, from_mapping
+from cognition.pipeline import CognitionConfig
 from cognition.vision import VisionParams
 from cognition.worldmodel.kalman_ball import KalmanBallParams
 from teamsim.events import ForceFall, ForcePenalty, Kidnap, PlaceBall, ScriptedEvent
@@ -85,7 +87,7 @@ KINDS = ("kidnap", "penalty", "ball", "fall")
 METRICS = ("localization", "recovery", "ball", "goals")
 REGIONS = ("field", "own-half", "opponent-half")
 TEAMS = {"home": 0, "away": 1}
-RESERVED_MATCH_KEYS = ("seed", "events", "localization", "players")
+RESERVED_MATCH_KEYS = ("seed", "events", "cognition", "players")
 MAX_DURATION = 3600.0
 MAX_SEEDS = 10_000
 MAX_EVENTS = 1000
@@ -113,6 +115,17 @@ class Variant:
     """``percepts`` or ``images`` for this variant's runs (``None``: the match's observation)."""
     vision: VisionParams = field(default_factory=VisionParams)
     """The home brains' vision (used with ``images``)."""
+
+    def cognition(self) -> CognitionConfig:
+        """The home brains' cognition frame: this variant's localization, Kalman ball and vision;
+        every other slot at its default provider."""
+        return CognitionConfig(
+            localization=self.localization,
+            localization_params=self.localization_params,
+            ball_params=self.ball,
+            vision=self.vision.method,
+            vision_params=self.vision,
+        )
 
 
 @dataclass(frozen=True)

@@ -49,6 +49,7 @@ import numpy as np
 from scipy import stats
 
 from cognition.brain import Brain
+from cognition.pipeline import CognitionConfig
 from teamsim.brains import random_brains, scripted_brains
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
@@ -113,14 +114,14 @@ def play(seed: int, pairing: str, mode: str, minutes: float) -> dict[str, Any]:
     """One match; returns its record (goals for the home team first)."""
     if pairing not in PAIRINGS or mode not in MODES:
         raise ValueError(f"unknown pairing {pairing!r} or mode {mode!r}; valid: {PAIRINGS}, {MODES}")
-    localization = None if mode == "truth" else "maturing"
+    cognition = None if mode == "truth" else CognitionConfig()  # the full stack: maturing localization
     cfg = MatchConfig(
         seed=seed,
         observation="none" if mode == "truth" else "percepts",
-        localization=localization,
+        cognition=cognition,
         referee=RefereeParams(half_seconds=30.0 * minutes),
     )
-    home = scripted_brains(localization, cfg.localization_params, cfg.referee.rules, cfg.obstacle_model)
+    home = scripted_brains(cognition, cfg.referee.rules)
     away = random_brains if pairing == "scripted-random" else home
 
     def brains(team: int, number: int) -> Brain:

@@ -4,10 +4,7 @@
 name                       what it is
 =========================  ==================================================================
 BrainFactory               ``(team index, player number) -> Brain``
-oracle_brains              the default factory: scripted oracle players (ground truth)
-localizing_brains          a factory of :class:`~cognition.behaviors.localizing_players.LocalizingBrain`
-                           that run one localization variant and act on their own estimate
-scripted_brains            scripted team play on beliefs (truth or the cognition stack)
+scripted_brains            scripted team play on beliefs (truth or a cognition frame)
 random_brains              random walkers, the baseline opponents
 default_brains             the factory a match uses when the caller gives none
 LocalizationErrors         collects, per robot and cognition frame, the error of a brain's pose
@@ -31,69 +28,27 @@ import numpy as np
 
 from cognition.brain import Brain
 from cognition.geometry import wrap_angle
-from cognition.localization import VARIANTS, LocalizationParams
+from cognition.pipeline import TRUTH, CognitionConfig
 from cognition.representations import RobotPose
-from cognition.vision import VisionParams
 
 BrainFactory = Callable[[int, int], Brain]
 """Makes the brain of (team index, player number)."""
 
 
-def oracle_brains(team: int, number: int) -> Brain:
-    """The default brain factory: scripted oracle players."""
-    from cognition.behaviors.oracle_players import OracleBrain
+def scripted_brains(cognition: CognitionConfig | None, return_rule: str | None = None) -> BrainFactory:
+    """A factory of scripted team players (:class:`~cognition.behaviors.team_play.ScriptedBrain`) on
+    the cognition frame ``cognition`` (``None``: the oracle providers, truth beliefs).
 
-    return OracleBrain()
-
-
-def localizing_brains(
-    variant: str,
-    params: LocalizationParams | None = None,
-    return_rule: str | None = None,
-    obstacle_model: str = "sectors",
-    vision: VisionParams | None = None,
-) -> BrainFactory:
-    """A factory of scripted players that localize with ``variant`` (one of ``VARIANTS``).
-
-    ``return_rule`` (the referee's penalty return rule, ``spl2025`` or ``spl2010``) replaces
-    ``params.return_rule`` so that the robots expect penalised players back where the
+    ``return_rule`` (the referee's penalty return rule, ``spl2025`` or ``spl2010``) replaces the
+    localization's ``return_rule`` so that the robots expect penalised players back where the
     referee really puts them.
     """
-    from cognition.behaviors.localizing_players import LocalizingBrain
-
-    if variant not in VARIANTS:
-        raise ValueError(f"unknown localization variant {variant!r}; valid: {list(VARIANTS)}")
-    p = params or LocalizationParams()
-    if return_rule is not None:
-        p = replace(p, return_rule=return_rule)
-
-    def factory(team: int, number: int) -> Brain:
-        return LocalizingBrain(variant, p, obstacle_model=obstacle_model, vision=vision)
-
-    return factory
-
-
-def scripted_brains(
-    localization: str | None,
-    params: LocalizationParams | None = None,
-    return_rule: str | None = None,
-    obstacle_model: str = "sectors",
-    vision: VisionParams | None = None,
-) -> BrainFactory:
-    """A factory of scripted team players (:class:`~cognition.behaviors.team_play.ScriptedBrain`):
-    on truth beliefs without ``localization``, else on the cognition stack with that variant."""
     from cognition.behaviors.team_play import ScriptedBrain
 
-    if localization is None:
-        return lambda team, number: ScriptedBrain(beliefs="truth")
-    if localization not in VARIANTS:
-        raise ValueError(f"unknown localization variant {localization!r}; valid: {list(VARIANTS)}")
-    p = params or LocalizationParams()
-    if return_rule is not None:
-        p = replace(p, return_rule=return_rule)
-    return lambda team, number: ScriptedBrain(
-        beliefs="cognition", variant=localization, localization_params=p, obstacle_model=obstacle_model, vision=vision
-    )
+    config = TRUTH if cognition is None else cognition
+    if return_rule is not None and config.beliefs != "truth":
+        config = replace(config, localization_params=replace(config.localization_params, return_rule=return_rule))
+    return lambda team, number: ScriptedBrain(config)
 
 
 def random_brains(team: int, number: int) -> Brain:
@@ -103,25 +58,14 @@ def random_brains(team: int, number: int) -> Brain:
     return RandomWalkBrain()
 
 
-def default_brains(
-    players: str,
-    localization: str | None,
-    params: LocalizationParams,
-    return_rule: str,
-    obstacle_model: str = "sectors",
-    vision: VisionParams | None = None,
-) -> BrainFactory:
-    """The brains named by ``players``: ``scripted`` (:func:`scripted_brains`), ``oracle`` (oracle
-    players without localization, localizing oracle players with it) or ``random``."""
+def default_brains(players: str, cognition: CognitionConfig | None, return_rule: str) -> BrainFactory:
+    """The brains named by ``players``: ``scripted`` (:func:`scripted_brains` on ``cognition``) or
+    ``random``."""
     if players == "scripted":
-        return scripted_brains(localization, params, return_rule, obstacle_model, vision)
+        return scripted_brains(cognition, return_rule)
     if players == "random":
         return random_brains
-    if players != "oracle":
-        raise ValueError(f"unknown players {players!r}; valid: ['scripted', 'oracle', 'random']")
-    if localization is None:
-        return oracle_brains
-    return localizing_brains(localization, params, return_rule, obstacle_model, vision)
+    raise ValueError(f"unknown players {players!r}; valid: ['scripted', 'random']")
 
 
 @dataclass(frozen=True)

@@ -311,13 +311,18 @@ def config_from_args(args: argparse.Namespace) -> MatchConfig:
     if getattr(args, "observation", None) is not None:
         data["observation"] = args.observation
     if getattr(args, "localization", None) is not None:
-        data["localization"] = None if args.localization == "none" else args.localization
-    elif args.command == "match" and "localization" not in data and data.get("observation", "percepts") == "percepts":
-        data["localization"] = "maturing"  # the command's default: the full cognition stack
+        if args.localization == "none":
+            data["cognition"] = None
+        else:
+            data["cognition"] = _override(data.get("cognition") or {}, localization=args.localization)
+    elif args.command == "match" and "cognition" not in data and data.get("observation", "percepts") == "percepts":
+        data["cognition"] = {}  # the command's default: the full cognition stack (CognitionConfig's defaults)
     if getattr(args, "players", None) is not None:
         data["players"] = args.players
     if getattr(args, "obstacles", None) is not None:
-        data["obstacle_model"] = args.obstacles
+        if data.get("cognition") is None:
+            raise ValueError("--obstacles chooses the obstacle model of a cognition stack; the players read the truth")
+        data["cognition"] = _override(data["cognition"], obstacles=args.obstacles)
     if args.images is not None:
         data["images"] = _override(data.get("images"), preset=args.images)
     referee: dict[str, Any] = {}
@@ -428,8 +433,8 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
     if args.video_particles:
         if args.video is None or args.video_robot == "none":
             raise ValueError("--video-particles needs --video and a --video-robot (auto or TEAM:NUMBER)")
-        if config.localization is None:
-            raise ValueError("--video-particles needs --localization (or 'localization' in --config)")
+        if config.cognition is None or config.cognition.beliefs == "truth":
+            raise ValueError("--video-particles needs a cognition stack: --localization (or 'cognition' in --config)")
     writer = None
     if args.video is not None:  # before anything runs: a path that cannot be written fails at once
         from teamsim.render import VideoWriter
@@ -451,8 +456,8 @@ def run_match(args: argparse.Namespace, out: TextIO) -> int:
     brains = None
     if args.opponents is not None:
         c = config
-        home = default_brains(c.players, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
-        away = default_brains(args.opponents, c.localization, c.localization_params, c.referee.rules, c.obstacle_model)
+        home = default_brains(c.players, c.cognition, c.referee.rules)
+        away = default_brains(args.opponents, c.cognition, c.referee.rules)
         brains = lambda team, number: home(team, number) if team == 0 else away(team, number)  # noqa: E731
     listen = gc is not None and gc.mode == "listen"
     match = Match(config, brains=brains, log=EventLog(sink=sink), external_referee=listen, profile=args.profile)

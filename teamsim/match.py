@@ -32,21 +32,16 @@ images                   default                       ImageParams or a preset n
 camera                   CameraRig                     head height and the two NAO cameras (320 x 240)
 events                   ()                            scripted events (kidnap, penalties, ...) for players
                                                        of these teams, on this field's carpet
-localization             None                          ``None``: scripted oracle players; a variant name
-                                                       (``cognition.localization.VARIANTS``): the default
-                                                       brains are localizing players that act on their
-                                                       own pose estimate
-localization_params      default                       LocalizationParams (or a mapping); its
+cognition                None                          the default brains' cognition frame: ``None``: scripted
+                                                       players on truth beliefs (the oracle baseline); a
+                                                       CognitionConfig (or a mapping): which provider fills
+                                                       each slot (``localization``, ``ball``, ``obstacles``,
+                                                       ``vision``, ...) and their parameters
+                                                       (:mod:`cognition.pipeline`); its localization's
                                                        ``return_rule`` is taken from ``referee.rules``
-obstacle_model           sectors                       obstacle model of the localizing players
-                                                       (``sectors`` or ``grid``)
-players                  scripted                      default brains: ``scripted`` (behaviors on beliefs:
-                                                       truth without ``localization``, else the cognition
-                                                       stack), ``oracle`` (the foundation's players) or
-                                                       ``random`` (random walkers)
-vision                   VisionParams                  the brains' vision on camera images (``observation``
-                                                       ``images``): line method ``dnt`` or ``hough``, colour
-                                                       thresholds (:mod:`cognition.vision`)
+players                  scripted                      default brains: ``scripted`` (team play on beliefs:
+                                                       truth without ``cognition``, else that cognition
+                                                       frame) or ``random`` (random walkers)
 =======================  ==============  ============  =============================================
 
 The numbers are checked against their ranges, and every section (``physics``, ``referee``,
@@ -75,14 +70,11 @@ from cognition.camera import CameraImage, CameraRig
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_colour_scheme, make_field
 from cognition.gamestate import GameControlData, GameStateId
 from cognition.inputs import merge_counts
-from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
+from cognition.pipeline import CognitionConfig, PipelineError, plan
 from cognition.representations import MotionRequest, RobotPose, SensorFrame
-from cognition.vision import VisionParams
-from cognition.worldmodel import OBSTACLE_MODELS
 from teamsim.brains import BrainFactory, LocalizationErrors, default_brains
-from teamsim.brains import oracle_brains as oracle_brains  # re-exported
 from teamsim.channel import ChannelParams, TeamChannel
 from teamsim.events import (
     EventLog,
@@ -110,7 +102,7 @@ from teamsim.world import PhysicsParams, World
 MAX_PLAYERS_PER_TEAM = 7
 OBSERVATIONS = ("percepts", "images", "none")
 """Valid values of :attr:`MatchConfig.observation`."""
-PLAYERS = ("scripted", "oracle", "random")
+PLAYERS = ("scripted", "random")
 """Valid values of :attr:`MatchConfig.players` (the default brains)."""
 
 
@@ -132,11 +124,8 @@ class MatchConfig:
     images: ImageParams = dataclass_field(default_factory=ImageParams)
     camera: CameraRig = dataclass_field(default_factory=CameraRig)
     events: tuple[ScriptedEvent, ...] = ()
-    localization: str | None = None
-    localization_params: LocalizationParams = dataclass_field(default_factory=LocalizationParams)
-    obstacle_model: str = "sectors"
+    cognition: CognitionConfig | None = None
     players: str = "scripted"
-    vision: VisionParams = dataclass_field(default_factory=VisionParams)
 
     RANGES: ClassVar[Ranges] = {
         "seed": Range(0, 2**63 - 1),
@@ -149,25 +138,18 @@ class MatchConfig:
             object.__setattr__(self, "percepts", PerceptParams.preset(self.percepts))
         if isinstance(self.images, str):
             object.__setattr__(self, "images", ImageParams.preset(self.images))
-        lp = self.localization_params
-        if isinstance(lp, Mapping):
-            object.__setattr__(self, "localization_params", LocalizationParams.from_mapping(dict(lp)))
-        if isinstance(self.vision, Mapping):
-            object.__setattr__(self, "vision", from_mapping(VisionParams, dict(self.vision), "MatchConfig.vision"))
+        if isinstance(self.cognition, Mapping):
+            object.__setattr__(self, "cognition", CognitionConfig.from_mapping(self.cognition, "MatchConfig.cognition"))
         check_ranges(self)  # numbers, and every section an instance of its parameters class
         check_choice("MatchConfig", "field", self.field, FIELD_PRESETS)
         check_choice("MatchConfig", "colours", self.colours, COLOUR_SCHEMES)
         check_choice("MatchConfig", "observation", self.observation, OBSERVATIONS)
-        if self.localization is not None:
-            check_choice("MatchConfig", "localization", self.localization, VARIANTS)
-        check_choice("MatchConfig", "obstacle_model", self.obstacle_model, OBSTACLE_MODELS)
         check_choice("MatchConfig", "players", self.players, PLAYERS)
-        if self.localization is not None and self.observation == "none" and self.players != "random":
-            raise ValueError(
-                f"MatchConfig: localization={self.localization!r} asks the robots to localize, but "
-                "observation='none' gives them no percepts and no camera images to localize on; use "
-                "observation='percepts' or 'images', or leave localization unset"
-            )
+        if self.cognition is not None and self.players != "random":
+            try:  # the frames this match delivers must carry what the configured modules require
+                plan(self.cognition, self.observation)
+            except PipelineError as exc:
+                raise ValueError(f"MatchConfig.cognition: {exc}") from None
         if self.cognition_hz > self.physics.physics_hz:
             raise ValueError(
                 f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
@@ -273,9 +255,7 @@ class Match:
         self.image_count = 0
         """Camera images delivered to brains so far (all robots)."""
         if brains is None:
-            brains = default_brains(
-                c.players, c.localization, c.localization_params, c.referee.rules, c.obstacle_model, c.vision
-            )
+            brains = default_brains(c.players, c.cognition, c.referee.rules)
         self.localization_errors = LocalizationErrors()
         """Errors of the brains' pose estimates (brains with a ``pose`` RobotPose; evaluation only)."""
         self.brains: list[Brain] = []
@@ -291,6 +271,7 @@ class Match:
                     rng=brain_rngs[i],
                     colours=scheme,
                     team=robot.team,
+                    observation=c.observation,
                 )
             )
             self.brains.append(brain)

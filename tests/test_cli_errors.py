@@ -187,7 +187,7 @@ def test_a_request_larger_than_memory_is_one_line(tmp_path: Path, capsys: pytest
     from teamsim.cli import main
 
     config = tmp_path / "c.json"
-    config.write_text(json.dumps({"localization_params": {"maturing_candidates": 10**12}}))
+    config.write_text(json.dumps({"cognition": {"localization_params": {"maturing_candidates": 10**12}}}))
     argv = ["match", "--config", str(config), *QUICK[:4], "--localization", "maturing"]
     assert main(argv) == 2
     line = _one_error_line("match", capsys)
@@ -263,10 +263,10 @@ def test_options_replace_only_the_keys_they_name(tmp_path: Path) -> None:
         "referee": {"half_seconds": 30, "penalty_seconds": 20},
         "percepts": {"preset": "harsh", "latency": 0.0},
         "images": "ideal",
-        "localization": "amcl",
+        "cognition": {"localization": "amcl"},
     }
     kept = _config(tmp_path, data)
-    assert kept.players_per_team == 2 and kept.referee.half_seconds == 30 and kept.localization == "amcl"
+    assert kept.players_per_team == 2 and kept.referee.half_seconds == 30 and kept.cognition.localization == "amcl"
     assert kept.percepts.latency == 0.0 and kept.images == MatchConfig.from_mapping({"images": "ideal"}).images
     changed = _config(tmp_path, data, "--half-seconds", "5", "--percepts", "ideal", "--players-per-team", "3")
     assert changed.referee.half_seconds == 5 and changed.referee.penalty_seconds == 20

@@ -30,7 +30,6 @@ from helpers import short_config
 
 from cognition.brain import BrainContext
 from cognition.gamestate import GameControlData, GameStateId, Penalty, RobotInfo, SetPlay, TeamInfo
-from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
 from cognition.representations import BrainOutput, SensorFrame
 from teamsim.brains import default_brains
@@ -305,7 +304,7 @@ def test_broadcast_sends_game_state_status_and_team_messages_in_real_time() -> N
     control, status = _receiver(), _receiver()
     base, team1, team2 = _team_ports()
     chatty = [_Chatty(), _Chatty()]
-    scripted = default_brains("scripted", None, LocalizationParams(), "spl2025")
+    scripted = default_brains("scripted", None, "spl2025")
     brains = lambda team, number: scripted(team, number) if team == 0 else chatty[number - 1]  # noqa: E731
     config = short_config(initial_seconds=0.5, ready_seconds=1.0, set_seconds=0.5)
     m = Match(MatchConfig(players_per_team=2, referee=config.referee), brains=brains)

@@ -22,6 +22,7 @@ from cognition.localization import VARIANTS, make_localizer
 from cognition.localization import particle_filter as pf
 from cognition.localization.particle_filter import ParticleFilter
 from cognition.percepts import N_COLS, N_KINDS, Col, Kind, PerceptError, Percepts, PostSide
+from cognition.pipeline import CognitionConfig
 from cognition.representations import BrainOutput, OdometryReading, SensorFrame
 from teamsim.brains import default_brains
 from teamsim.match import Match, MatchConfig
@@ -294,8 +295,8 @@ class _GlitchingBrain:
 
 
 def test_the_match_summary_counts_rejected_odometry_and_keeps_localizing() -> None:
-    cfg = MatchConfig(seed=4, players_per_team=2, localization="maturing", referee=RefereeParams(half_seconds=20.0))
-    inner = default_brains("scripted", "maturing", cfg.localization_params, cfg.referee.rules, cfg.obstacle_model)
+    cfg = MatchConfig(seed=4, players_per_team=2, cognition=CognitionConfig(), referee=RefereeParams(half_seconds=20.0))
+    inner = default_brains("scripted", cfg.cognition, cfg.referee.rules)
     glitching: list[_GlitchingBrain] = []
 
     def brains(team: int, number: int) -> Brain:

@@ -7,19 +7,21 @@ import io
 
 import pytest
 
+from cognition.pipeline import CognitionConfig
 from teamsim.cli import main
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
 
 MODULES = [
-    "frame start", "input check", "vision", "localization", "team messages", "ball model", "ball hypotheses",
+    "frame start", "input check", "localization", "team messages", "ball model", "ball hypotheses",
     "team ball", "obstacles", "goal model", "beliefs", "behaviour",
 ]  # fmt: skip
+"""The rows of a frame on percepts, in order (no vision module: the frames carry the percepts)."""
 
 
 def _config(observation: str = "percepts") -> MatchConfig:
     return MatchConfig(
-        seed=2, players_per_team=2, observation=observation, localization="maturing",  # type: ignore[arg-type]
+        seed=2, players_per_team=2, observation=observation, cognition=CognitionConfig(),  # type: ignore[arg-type]
         referee=RefereeParams(half_seconds=3.0, ready_seconds=2.0, halftime_seconds=1.0),
     )  # fmt: skip
 
@@ -35,6 +37,7 @@ def test_profiled_match_is_the_same_match_and_its_rows_add_up_to_the_wall_time()
     assert prof.robot_frames == m.frames * 4  # every brain call of every cognition frame
     rows = dict(prof.rows(m.wall_seconds))
     assert list(prof.modules.seconds)[: len(MODULES)] == MODULES  # the cognition frame's order
+    assert "vision" not in prof.modules.seconds
     assert all(v >= 0.0 for v in rows.values())
     assert sum(rows.values()) == pytest.approx(m.wall_seconds, rel=1e-9)
     # the world's stages and the brains hold the run's time, not the leftover
@@ -49,6 +52,7 @@ def test_on_images_the_vision_module_is_timed() -> None:
     m.run(until=4.0)
     assert m.profile is not None
     seconds = m.profile.modules.seconds
+    assert list(seconds)[1:4] == ["input check", "vision", "localization"]  # the planned order on images
     assert seconds["vision"] > 0.3 * seconds["localization"]  # on images the vision stage does the work
 
 

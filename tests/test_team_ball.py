@@ -14,6 +14,8 @@ import pytest
 from cognition.brain import BrainContext
 from cognition.field import make_field
 from cognition.gamestate import GameControlData
+from cognition.oracle import OracleInput, OraclePose
+from cognition.pipeline import CognitionConfig
 from cognition.representations import (
     BallModel,
     HeadState,
@@ -154,7 +156,12 @@ def _on_carpet(x: float, y: float) -> bool:
 
 def _cognition() -> CognitionBeliefs:
     context = BrainContext(team_number=1, player_number=1, players_per_team=5, field=FIELD, cognition_hz=30.0)
-    return CognitionBeliefs(context, variant="oracle")
+    return CognitionBeliefs(context, CognitionConfig(localization="oracle"))
+
+
+def _truth(x: float, y: float, theta: float) -> OracleInput:
+    """The ground truth of the ``oracle`` localization: the robot at (x, y, theta), team frame."""
+    return OracleInput(OraclePose(1, x, y, theta), (), (), 0.0, 0.0, 0.0, 0.0)
 
 
 def _check_beliefs(b: Beliefs) -> None:
@@ -174,7 +181,7 @@ def test_a_stream_of_absurd_messages_leaves_the_ball_model_and_team_ball_finite_
         msgs = [TeamMessageIn(2, ABSURD[i % len(ABSURD)][0], t)]
         if i >= 60:  # then a sane teammate reports the ball at (2, 1)
             msgs.append(TeamMessageIn(3, _raw(player=3, ball=(2.0, 1.0), cov=(0.02, 0.0, 0.02)), t))
-        b = beliefs.update(_frame(t, msgs), true_pose=(0.0, 0.0, 0.0))
+        b = beliefs.update(_frame(t, msgs), _truth(0.0, 0.0, 0.0))
         _check_beliefs(b)
         if i < 60:
             assert b.ball.level == "invalid" and b.team_ball is None and b.teammates == ()
@@ -201,7 +208,7 @@ def test_accepted_extreme_reports_keep_the_ball_model_and_team_ball_finite_and_o
     for i in range(300):
         t = i / 30
         msgs = [TeamMessageIn(2 + k, extreme[k], t) for k in range(4) if (i + k) % 3]
-        _check_beliefs(beliefs.update(_frame(t, msgs), true_pose=(-4.0, 2.0, 0.0)))
+        _check_beliefs(beliefs.update(_frame(t, msgs), _truth(-4.0, 2.0, 0.0)))
     assert beliefs.team.rejected == 0
 
 

@@ -13,6 +13,7 @@ from cognition.behaviors.team_play import assign_role
 from cognition.brain import BrainContext
 from cognition.field import make_field
 from cognition.gamestate import GameControlData, GameStateId
+from cognition.pipeline import CognitionConfig
 from cognition.representations import BallModel, RobotPose
 from cognition.worldmodel.beliefs import Beliefs, Teammate
 from cognition.worldmodel.messages import Role
@@ -180,7 +181,9 @@ def test_random_walkers_are_deterministic_per_seed() -> None:
 
 
 def test_scripted_players_on_percepts_reach_the_ball() -> None:
-    cfg = MatchConfig(seed=2, players_per_team=3, localization="maturing", referee=RefereeParams(half_seconds=120.0))
+    cfg = MatchConfig(
+        seed=2, players_per_team=3, cognition=CognitionConfig(), referee=RefereeParams(half_seconds=120.0)
+    )
     m = Match(cfg)
     m.run(until=90.0)
     assert m.referee.counters.kickoffs  # the game reached PLAYING

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import teamsim.match as match_module
 from cognition.brain import StagedBrain, think_all
+from cognition.pipeline import CognitionConfig
 from cognition.profiling import ModuleProfile
 from cognition.representations import BrainOutput, MotionRequest, SensorFrame, WalkRequest
 from teamsim.match import Match, MatchConfig
@@ -68,9 +69,9 @@ def test_staged_brains_run_stage_major_and_plain_brains_think() -> None:
 def test_the_default_match_is_the_same_stage_major_as_brain_by_brain() -> None:
     """The scripted team play on the full cognition stack (percepts, and the truth) gives the
     same match either way: the brains are independent within a frame."""
-    for localization in ("maturing", None):
+    for cognition in (CognitionConfig(), None):
         cfg = MatchConfig(
-            seed=4, players_per_team=3, localization=localization,
+            seed=4, players_per_team=3, cognition=cognition,
             referee=RefereeParams(half_seconds=6.0, ready_seconds=3.0, halftime_seconds=1.0),
         )  # fmt: skip
         staged = Match(cfg)

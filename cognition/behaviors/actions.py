@@ -67,6 +67,7 @@ from cognition.behaviors.observation import ObservationBuilder
 from cognition.brain import BrainContext, think_by_stages
 from cognition.oracle import OracleInput
 from cognition.params import Range, Ranges, check_ranges, positive
+from cognition.pipeline import TRUTH, CognitionConfig, plan
 from cognition.representations import BrainOutput, HeadRequest, KickRequest, MotionRequest, SensorFrame, WalkRequest
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, TruthBeliefs
 
@@ -181,31 +182,28 @@ def continuous_motion(a: NDArray[np.float64], p: ActionParams) -> MotionRequest:
 class PolicyBrain:
     """A robot whose decisions come from outside (an RL policy) and whose inputs are beliefs.
 
-    ``beliefs`` picks the provider (``truth`` or ``cognition``, with the localization
-    ``variant`` and ``obstacle_model``). Each frame :meth:`think` updates the beliefs and
-    carries out the current action: a continuous action is held, a macro-action re-runs its
-    skill on the new beliefs. :meth:`observation` gives the policy's view, :meth:`act` sets a
-    new action and returns the motion it means now.
+    ``cognition`` picks the providers of its cognition frame (:class:`~cognition.pipeline.CognitionConfig`;
+    the default :data:`~cognition.pipeline.TRUTH` reads the ground truth, and then only when the
+    policy needs the beliefs). Each frame :meth:`think` updates the beliefs and carries out the
+    current action: a continuous action is held, a macro-action re-runs its skill on the new
+    beliefs. :meth:`observation` gives the policy's view, :meth:`act` sets a new action and
+    returns the motion it means now.
     """
 
     def __init__(
         self,
         action_type: str = "continuous",
-        beliefs: str = "truth",
-        variant: str = "maturing",
-        obstacle_model: str = "sectors",
+        cognition: CognitionConfig = TRUTH,
         params: ActionParams | None = None,
     ):
         if action_type not in ACTION_TYPES:
             raise ValueError(f"unknown action type {action_type!r}; valid: {list(ACTION_TYPES)}")
-        if beliefs not in ("truth", "cognition"):
-            raise ValueError(f"unknown beliefs {beliefs!r}; valid: ['truth', 'cognition']")
+        if not isinstance(cognition, CognitionConfig):
+            raise TypeError(f"PolicyBrain: cognition must be a CognitionConfig, got {cognition!r}")
         self.action_type = action_type
-        self.beliefs_mode = beliefs
-        self.variant = variant
-        self.obstacle_model = obstacle_model
+        self.cognition = cognition
         self.params = params or ActionParams()
-        self.uses_oracle = beliefs == "truth" or variant == "oracle"
+        self.uses_oracle = cognition.reads_ground_truth
         self.context: BrainContext | None = None
         self.provider: TruthBeliefs | CognitionBeliefs | None = None
         self.beliefs: Beliefs | None = None
@@ -219,12 +217,14 @@ class PolicyBrain:
         self._output = BrainOutput(motion=MotionRequest())
 
     def reset(self, context: BrainContext) -> None:
-        """Build the belief provider, the skills and the observation builder."""
+        """Build the cognition frame, the skills and the observation builder."""
         self.context = context
-        if self.beliefs_mode == "truth":
+        if self.cognition.beliefs == "truth":
+            # the oracle provider of the ``beliefs`` slot, run only when the policy needs beliefs
+            plan(self.cognition, context.observation)
             self.provider = TruthBeliefs(context)
         else:
-            self.provider = CognitionBeliefs(context, self.variant, obstacle_model=self.obstacle_model)
+            self.provider = CognitionBeliefs(context, self.cognition)
         if self.action_type == "discrete":
             from cognition.behaviors.head_control import HeadControl
             from cognition.behaviors.skills import Skills
@@ -247,7 +247,7 @@ class PolicyBrain:
     def stages(self) -> tuple[str, ...]:
         """The modules of one frame: the cognition stack's (none on truth beliefs), then the action."""
         if isinstance(self.provider, CognitionBeliefs):
-            return (*self.provider.STAGES, "policy action")
+            return (*self.provider.stages, "policy action")
         return ("policy action",)
 
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
@@ -260,8 +260,7 @@ class PolicyBrain:
             raise RuntimeError("PolicyBrain.think called before reset()")
         self._frame = (frame, oracle)
         if isinstance(self.provider, CognitionBeliefs):
-            me = oracle.self_pose if oracle is not None else None
-            self.provider.begin(frame, (me.x, me.y, me.theta) if me is not None else None)
+            self.provider.begin(frame, oracle)
 
     def run_stage(self, stage: str) -> None:
         """Run one stage of :attr:`stages`: a module of the cognition stack, or the action."""

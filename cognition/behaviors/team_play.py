@@ -36,12 +36,10 @@ from cognition.behaviors.message_budget import message_due
 from cognition.behaviors.skills import SkillParams, Skills
 from cognition.brain import BrainContext, think_by_stages
 from cognition.gamestate import GameStateId, SetPlay
-from cognition.localization import LocalizationParams
 from cognition.oracle import OracleInput
+from cognition.pipeline import CognitionConfig
 from cognition.representations import BrainOutput, MotionRequest, RobotPose, SensorFrame
-from cognition.vision import VisionParams
-from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, Teammate, TruthBeliefs
-from cognition.worldmodel.kalman_ball import KalmanBallParams
+from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, Teammate
 from cognition.worldmodel.messages import Role
 
 STRIKER_BONUS = 0.3
@@ -85,34 +83,25 @@ def _back_role(b: Beliefs, backs: list[Teammate], own_goal_x: float) -> Role:
 
 
 class ScriptedBrain:
-    """The scripted player (module docstring); ``beliefs`` is ``cognition`` or ``truth``."""
+    """The scripted player (module docstring) on the beliefs of ``cognition`` (default: the full
+    stack, :class:`~cognition.pipeline.CognitionConfig`; :data:`~cognition.pipeline.TRUTH`: the
+    oracle providers, a baseline)."""
 
     def __init__(
         self,
-        beliefs: str = "cognition",
-        variant: str = "maturing",
-        localization_params: LocalizationParams | None = None,
-        obstacle_model: str = "sectors",
+        cognition: CognitionConfig | None = None,
         skill_params: SkillParams | None = None,
         head_params: HeadParams | None = None,
         message_interval: float = 1.0,
-        ball_params: KalmanBallParams | None = None,
-        vision: VisionParams | None = None,
     ):
-        if beliefs not in ("cognition", "truth"):
-            raise ValueError(f"unknown beliefs {beliefs!r}; valid: ['cognition', 'truth']")
-        self.beliefs_mode = beliefs
-        self.variant = variant
-        self.localization_params = localization_params
-        self.obstacle_model = obstacle_model
+        self.cognition = cognition or CognitionConfig()
+        """Which provider fills each slot of the cognition frame."""
         self.skill_params = skill_params
         self.head_params = head_params
         self.message_interval = message_interval
-        self.ball_params = ball_params
-        self.vision = vision
-        self.uses_oracle = beliefs == "truth" or variant == "oracle"
+        self.uses_oracle = self.cognition.reads_ground_truth
         self.context: BrainContext | None = None
-        self.provider: CognitionBeliefs | TruthBeliefs | None = None
+        self.provider: CognitionBeliefs | None = None
         self.beliefs: Beliefs | None = None
         """The latest beliefs."""
         self.pose: RobotPose | None = None
@@ -122,16 +111,12 @@ class ScriptedBrain:
         self._frame: SensorFrame | None = None
         self._motion = MotionRequest()
         self._message: bytes | None = None
+        self._on_truth = self.cognition.beliefs == "truth"
 
     def reset(self, context: BrainContext) -> None:
-        """Build the belief provider, skills and head control for a new match."""
+        """Build the cognition frame, skills and head control for a new match."""
         self.context = context
-        if self.beliefs_mode == "truth":
-            self.provider = TruthBeliefs(context)
-        else:
-            self.provider = CognitionBeliefs(
-                context, self.variant, self.localization_params, self.obstacle_model, self.ball_params, self.vision
-            )
+        self.provider = CognitionBeliefs(context, self.cognition)
         self.skills = Skills(context, self.skill_params)
         self.head = HeadControl(context, self.head_params)
         self.beliefs = None
@@ -142,17 +127,17 @@ class ScriptedBrain:
 
     def rejected_inputs(self) -> dict[str, int]:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
-        return self.provider.rejected_inputs() if isinstance(self.provider, CognitionBeliefs) else {}
+        return self.provider.rejected_inputs() if self.provider is not None else {}
 
     # -- the frame, stage by stage (:class:`cognition.brain.StagedBrain`) ----------------------
     BEHAVIOUR_STAGES: ClassVar[tuple[str, ...]] = ("behaviour", "team message out")
 
     @property
     def stages(self) -> tuple[str, ...]:
-        """The modules of one frame: the belief provider's, then behaviour and the team message."""
+        """The modules of one frame: the cognition frame's, then behaviour and the team message."""
         if self.provider is None:
             raise RuntimeError("ScriptedBrain.stages read before reset()")
-        return self.provider.STAGES + self.BEHAVIOUR_STAGES
+        return self.provider.stages + self.BEHAVIOUR_STAGES
 
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Update the beliefs, choose the state, act (every stage of :attr:`stages` in order)."""
@@ -164,11 +149,7 @@ class ScriptedBrain:
             raise RuntimeError("ScriptedBrain.think called before reset()")
         self._frame = frame
         self._message = None
-        if isinstance(self.provider, TruthBeliefs):
-            self.provider.begin(frame, oracle)
-        else:
-            me = oracle.self_pose if oracle is not None else None
-            self.provider.begin(frame, (me.x, me.y, me.theta) if me is not None else None)
+        self.provider.begin(frame, oracle)
 
     def run_stage(self, stage: str) -> None:
         """Run the module ``stage`` of :attr:`stages` on the current frame."""
@@ -187,7 +168,7 @@ class ScriptedBrain:
     def _behave(self) -> None:
         assert self.provider is not None
         b = self.provider.finish()
-        if isinstance(self.provider, CognitionBeliefs):
+        if not self._on_truth:
             self.pose = b.pose
         self.beliefs = b
         self.state = self._transition(b)
@@ -197,7 +178,7 @@ class ScriptedBrain:
     def _message_out(self) -> None:
         assert self.context is not None
         frame = self._frame
-        if isinstance(self.provider, CognitionBeliefs) and message_due(
+        if not self._on_truth and message_due(
             frame.game, self.context.team_number, self.context.players_per_team, frame.time,
             self._last_message, self.message_interval,
         ):  # fmt: skip

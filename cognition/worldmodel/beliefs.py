@@ -29,10 +29,9 @@ frame** (m, +x forward, +y left).
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
-from typing import ClassVar, Literal
+from dataclasses import dataclass, field
+from typing import Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,18 +39,33 @@ from numpy.typing import NDArray
 from cognition.brain import BrainContext
 from cognition.gamestate import GameControlData
 from cognition.geometry import wrap_angle
-from cognition.inputs import InputCheck, merge_counts
-from cognition.localization import VARIANTS, LocalizationParams, Localizer, make_localizer
+from cognition.inputs import merge_counts
+from cognition.localization import Localizer
+from cognition.modules import (
+    BallModule,
+    Blackboard,
+    GoalModule,
+    HypothesesModule,
+    InputCheckModule,
+    LocalizationModule,
+    Module,
+    ObstacleModule,
+    TeamBallModule,
+    TeamMessagesModule,
+    VisionModule,
+)
 from cognition.oracle import OracleInput
+from cognition.pipeline import DECLARATIONS, CognitionConfig, plan
 from cognition.representations import BallModel, RobotPose, SensorFrame
-from cognition.vision import Vision, VisionParams
+from cognition.vision import Vision
 from cognition.worldmodel.ball import KalmanBallModel
 from cognition.worldmodel.goal import GoalEstimate, GoalModel
 from cognition.worldmodel.hypotheses import BallHypotheses
-from cognition.worldmodel.kalman_ball import KalmanBallParams
 from cognition.worldmodel.messages import MAX_POSE_STD, Role, TeamMessage
 from cognition.worldmodel.obstacles import ObstacleGrid, ObstacleModel, ObstacleSectors
-from cognition.worldmodel.team import TeamBallEstimate, TeamState, carpet_limits, rotate_covariance, team_ball
+from cognition.worldmodel.team import TeamBallEstimate, TeamState, rotate_covariance
+
+M = TypeVar("M")
 
 _EMPTY2 = np.zeros((0, 2))
 _EMPTY3 = np.zeros((0, 3))
@@ -163,181 +177,123 @@ class Beliefs:
 
 
 class CognitionBeliefs:
-    """The full stack on the robot's own sensor frames (see the module table).
+    """One robot's cognition frame: the modules :func:`cognition.pipeline.plan` picks for its
+    :class:`~cognition.pipeline.CognitionConfig`, run in order on a shared blackboard.
 
-    ``variant`` names the localization (:data:`cognition.localization.VARIANTS`); the
-    ``oracle`` variant needs the true pose passed to :meth:`update`. ``obstacle_model`` is
-    ``sectors`` or ``grid``; ``ball_params`` tunes the Kalman ball (its observation noise model,
-    Darmstadt V). Frames that carry a camera image instead of percepts go through the vision
-    pipeline first (:class:`cognition.vision.Vision` with ``vision``, the colours and jersey of
-    the context), so everything after it runs on the same percepts either way.
-
-    :attr:`localization_cpu_seconds` sums the CPU time (s, this thread) of the localizer's
-    updates, so that a study can report the cost of a variant per update.
+    With the default configuration that is the full stack of the module table (input check,
+    vision on camera images, localization, team messages, Kalman ball, ball hypotheses, team
+    ball, obstacles, goal model, beliefs); with ``beliefs="truth"`` it is the one oracle
+    provider (:class:`TruthBeliefs`). The context's ``observation`` says what the frames carry;
+    a configuration that needs what they do not carry is a :class:`~cognition.pipeline.PipelineError`
+    here. :attr:`stages` names the modules of a frame, in order (:meth:`run_stage`).
     """
 
-    def __init__(
-        self,
-        context: BrainContext,
-        variant: str = "maturing",
-        params: LocalizationParams | None = None,
-        obstacle_model: str = "sectors",
-        ball_params: KalmanBallParams | None = None,
-        vision: VisionParams | None = None,
-    ):
-        from cognition.worldmodel import OBSTACLE_MODELS, make_obstacle_model
-
-        if variant not in VARIANTS:
-            raise ValueError(f"unknown localization variant {variant!r}; valid: {list(VARIANTS)}")
-        if obstacle_model not in OBSTACLE_MODELS:
-            raise ValueError(f"unknown obstacle model {obstacle_model!r}; valid: {list(OBSTACLE_MODELS)}")
+    def __init__(self, context: BrainContext, config: CognitionConfig | None = None):
         self.context = context
-        self.variant = variant
-        rng = context.rng if context.rng is not None else np.random.default_rng(context.player_number)
-        self.localizer: Localizer = make_localizer(
-            variant,
-            context.field,
-            params=params or LocalizationParams(),
-            rng=rng,
-            player_number=context.player_number,
-            players_per_team=context.players_per_team,
-        )
-        self.ball_model = KalmanBallModel(
-            0.5 * context.field.dims.ball_diameter, ball_params, limits=carpet_limits(context.field)
-        )
-        self.hypotheses = BallHypotheses()
-        self.team = TeamState(context.player_number, context.field)
-        self.obstacles: ObstacleGrid | ObstacleSectors = make_obstacle_model(obstacle_model)
-        dims = context.field.dims
-        self.goal_model = GoalModel(dims.goal_inner_width + dims.goal_post_diameter)
+        self.config = config or CognitionConfig()
+        planned = plan(self.config, context.observation)
+        self.stages: tuple[str, ...] = tuple(d.stage for d in planned)
+        """The modules of one frame, in the order they run."""
+        self.modules: dict[str, Module] = {d.stage: MODULES[_SLOT_OF[d.stage]](context, self.config) for d in planned}
+        """Every module of the frame by stage name."""
+        self.board = Blackboard()
+        """The representations of the current frame."""
         self.latest: Beliefs | None = None
         """The beliefs of the latest frame (``None`` before the first)."""
-        self.obstacle_model: ObstacleModel | None = None
+
+    # -- the modules, for callers that inspect them (``None`` when the configuration has none) --
+    def _module(self, stage: str, kind: type[M]) -> M | None:
+        m = self.modules.get(stage)
+        return m if isinstance(m, kind) else None
+
+    @property
+    def variant(self) -> str:
+        """The localization variant (``truth`` on truth beliefs)."""
+        return "truth" if self.config.beliefs == "truth" else self.config.localization
+
+    @property
+    def localizer(self) -> Localizer | None:
+        """The localization variant's localizer (``None`` on truth beliefs)."""
+        m = self._module("localization", LocalizationModule)
+        return m.localizer if m is not None else None
+
+    @property
+    def localization_cpu_seconds(self) -> float:
+        """CPU time (s, this thread) spent in the localizer's updates so far (0 without one)."""
+        m = self._module("localization", LocalizationModule)
+        return m.cpu_seconds if m is not None else 0.0
+
+    @property
+    def ball_model(self) -> KalmanBallModel | None:
+        m = self._module("ball model", BallModule)
+        return m.model if m is not None else None
+
+    @property
+    def hypotheses(self) -> BallHypotheses | None:
+        m = self._module("ball hypotheses", HypothesesModule)
+        return m.model if m is not None else None
+
+    @property
+    def team(self) -> TeamState | None:
+        m = self._module("team messages", TeamMessagesModule)
+        return m.team if m is not None else None
+
+    @property
+    def obstacles(self) -> ObstacleGrid | ObstacleSectors | None:
+        m = self._module("obstacles", ObstacleModule)
+        return m.model if m is not None else None
+
+    @property
+    def obstacle_model(self) -> ObstacleModel | None:
         """The obstacle model's latest output (robot frame)."""
-        self.inputs = InputCheck("cognition")
-        """Counts the sensor input replaced before any model saw it (:mod:`cognition.inputs`)."""
-        self.localization_cpu_seconds = 0.0
-        """CPU time (s, this thread) spent in the localizer's updates so far."""
-        self.vision_params = vision or VisionParams()
-        self.vision: Vision | None = None
-        """The vision pipeline, built at the first frame that carries a camera image."""
-        # the representations of the current frame, written and read by the stages in order
-        self._frame: SensorFrame
-        self._true_pose: tuple[float, float, float] | None = None
-        self._pose: RobotPose
-        self._mates: list[TeamMessage] = []
-        self._ball_now: BallModel
-        self._look_at: tuple[float, float] | None = None
-        self._team_ball_now: TeamBallEstimate | None = None
-        self._goal_now: GoalEstimate | None = None
+        return self.board.obstacles
+
+    @property
+    def goal_model(self) -> GoalModel | None:
+        m = self._module("goal model", GoalModule)
+        return m.model if m is not None else None
+
+    @property
+    def vision(self) -> Vision | None:
+        """The vision pipeline (built at the first frame that carries a camera image)."""
+        m = self._module("vision", VisionModule)
+        return m.vision if m is not None else None
 
     def rejected_inputs(self) -> dict[str, int]:
         """Inputs dropped so far, by kind: odometry (:mod:`cognition.inputs`), the localizer's
         own checks, and team messages (``team_message_<reason>``, :mod:`cognition.worldmodel.team`)."""
+        check = self._module("input check", InputCheckModule)
+        loc = self._module("localization", LocalizationModule)
+        team = self.team
         return merge_counts(
-            self.inputs.rejected,
-            self.localizer.rejected_inputs(),
-            {f"team_message_{reason}": n for reason, n in self.team.rejected_by_reason.items()},
+            check.check.rejected if check is not None else {},
+            loc.localizer.rejected_inputs() if loc is not None else {},
+            {f"team_message_{reason}": n for reason, n in team.rejected_by_reason.items()} if team is not None else {},
         )
 
     # -- the frame, stage by stage -----------------------------------------------------------
-    STAGES: ClassVar[tuple[str, ...]] = (
-        "input check", "vision", "localization", "team messages", "ball model", "ball hypotheses", "team ball",
-        "obstacles", "goal model", "beliefs",
-    )  # fmt: skip
-    """The modules of one frame, in order (:meth:`run_stage`); ``vision`` does nothing on a frame
-    that carries percepts."""
-
-    def update(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> Beliefs:
-        """Run localization and the world model on one frame (``true_pose``: only for ``oracle``):
-        :meth:`begin`, every stage of :data:`STAGES` in order, :meth:`finish`."""
-        self.begin(frame, true_pose)
-        for stage in self.STAGES:
+    def update(self, frame: SensorFrame, ground_truth: OracleInput | None = None) -> Beliefs:
+        """One frame: :meth:`begin`, every stage of :attr:`stages` in order, :meth:`finish`.
+        ``ground_truth`` reaches only the declared oracle providers."""
+        self.begin(frame, ground_truth)
+        for stage in self.stages:
             self.run_stage(stage)
         return self.finish()
 
-    def begin(self, frame: SensorFrame, true_pose: tuple[float, float, float] | None = None) -> None:
-        """Start a frame; the stages then read and write its representations on this object."""
-        self._frame = frame
-        self._true_pose = true_pose
+    def begin(self, frame: SensorFrame, ground_truth: OracleInput | None = None) -> None:
+        """Start a frame; the stages then read and write the blackboard."""
+        self.board.start(frame, ground_truth)
 
     def run_stage(self, stage: str) -> None:
-        """Run the module ``stage`` (one of :data:`STAGES`, in order) on the current frame."""
-        _STAGE_METHODS[stage](self)
+        """Run the module ``stage`` (one of :attr:`stages`, in order) on the current frame."""
+        self.modules[stage].run(self.board)
 
     def finish(self) -> Beliefs:
-        """The beliefs of the frame (after the ``beliefs`` stage)."""
-        assert self.latest is not None
-        return self.latest
-
-    def _input_check(self) -> None:
-        self._frame = self.inputs.frame(self._frame)
-
-    def _vision(self) -> None:
-        if self._frame.percepts is None and self._frame.image is not None:
-            self._frame = self._see(self._frame)
-
-    def _localize(self) -> None:
-        started = time.thread_time()
-        self._pose = self.localizer.update(self._frame, self._true_pose if self.variant == "oracle" else None)
-        self.localization_cpu_seconds += time.thread_time() - started
-
-    def _team_messages(self) -> None:
-        self._mates = self.team.update(self._frame)
-
-    def _ball(self) -> None:
-        self._ball_now = self.ball_model.update(self._frame, self._pose, self._mates)
-
-    def _ball_hypotheses(self) -> None:
-        self._look_at = self.hypotheses.update(self._frame, self._pose, self._mates).look_at
-
-    def _team_ball(self) -> None:
-        self._team_ball_now = team_ball(
-            self._ball_now, self._pose, self.context.player_number, self._mates, limits=self.team.limits
-        )
-
-    def _obstacles(self) -> None:
-        f = self._frame
-        self.obstacle_model = self.obstacles.update(f.time, f.odometry, f.percepts)
-
-    def _goal(self) -> None:
-        o = self._frame.odometry
-        self.goal_model.move_robot(o.dx, o.dy, o.dtheta, 1.0 / self.context.cognition_hz)
-        self.goal_model.add_percepts(self._frame.percepts)
-        self._goal_now = self.goal_model.estimate()
-
-    def _beliefs(self) -> None:
-        frame = self._frame
-        received = {number: t for number, (t, _) in self.team.latest.items()}
-        teammates = tuple(
-            Teammate(
-                number=m.player, x=m.x, y=m.y, theta=m.theta, age=max(0.0, frame.time - received[m.player]),
-                role=m.role, fallen=m.fallen, penalized=m.penalized,
-                ball_x=m.ball_x if m.ball_valid else math.nan, ball_y=m.ball_y if m.ball_valid else math.nan,
-            )
-            for m in sorted(self._mates, key=lambda m: m.player)
-        )  # fmt: skip
-        assert self.obstacle_model is not None
-        self.latest = Beliefs.of_frame(
-            frame, self.context.player_number, self._pose, self._ball_now, self._team_ball_now, self._goal_now,
-            teammates, self.obstacle_model.obstacles, self._look_at, "cognition",
-        )  # fmt: skip
-
-    def _see(self, frame: SensorFrame) -> SensorFrame:
-        """The frame with the percepts its camera image shows (the image observation path)."""
-        if self.vision is None:
-            c = self.context
-            self.vision = Vision(self.vision_params, c.field, c.colours or "modern", c.team)
-        image = frame.image
-        assert image is not None
-        o = frame.odometry
-        # the home team (0) defends the scheme's own_goal colour in the first half; sides switch at half time
-        own_goal = int((self.context.team == 1) != (frame.game.first_half == 0))
-        percepts = self.vision.detect(
-            image.pixels, image.camera, image.time, frame.head.yaw_rate, frame.head.pitch_rate,
-            walking=o.dx != 0.0 or o.dy != 0.0 or o.dtheta != 0.0, own_goal=own_goal,
-        )  # fmt: skip
-        return replace(frame, percepts=percepts)
+        """The beliefs of the frame (after the last stage)."""
+        b = self.board.beliefs
+        assert b is not None
+        self.latest = b
+        return b
 
     def message(self, role: Role = Role.NONE) -> bytes:
         """The team message (:mod:`cognition.worldmodel.messages`) of the latest beliefs: the
@@ -364,20 +320,39 @@ class CognitionBeliefs:
         return msg.pack()
 
 
-_STAGE_METHODS: dict[str, Callable[[CognitionBeliefs], None]] = {
-    "input check": CognitionBeliefs._input_check,
-    "vision": CognitionBeliefs._vision,
-    "localization": CognitionBeliefs._localize,
-    "team messages": CognitionBeliefs._team_messages,
-    "ball model": CognitionBeliefs._ball,
-    "ball hypotheses": CognitionBeliefs._ball_hypotheses,
-    "team ball": CognitionBeliefs._team_ball,
-    "obstacles": CognitionBeliefs._obstacles,
-    "goal model": CognitionBeliefs._goal,
-    "beliefs": CognitionBeliefs._beliefs,
-}
-"""The method of each stage of :data:`CognitionBeliefs.STAGES`."""
-assert tuple(_STAGE_METHODS) == CognitionBeliefs.STAGES
+class BeliefsModule:
+    """``beliefs`` = ``cognition``: the frame's representations assembled into one :class:`Beliefs`."""
+
+    def __init__(self, context: BrainContext, config: CognitionConfig) -> None:
+        self.player_number = context.player_number
+
+    def run(self, board: Blackboard) -> None:
+        frame = board.frame
+        heard = board.heard or {}
+        teammates = tuple(
+            Teammate(
+                number=m.player, x=m.x, y=m.y, theta=m.theta, age=max(0.0, frame.time - heard[m.player]),
+                role=m.role, fallen=m.fallen, penalized=m.penalized,
+                ball_x=m.ball_x if m.ball_valid else math.nan, ball_y=m.ball_y if m.ball_valid else math.nan,
+            )
+            for m in sorted(board.teammates or (), key=lambda m: m.player)
+        )  # fmt: skip
+        assert board.pose is not None and board.ball is not None
+        obstacles = board.obstacles.obstacles if board.obstacles is not None else _EMPTY2
+        board.beliefs = Beliefs.of_frame(
+            frame, self.player_number, board.pose, board.ball, board.team_ball, board.goal,
+            teammates, obstacles, board.look_at, "cognition",
+        )  # fmt: skip
+
+
+class TruthModule:
+    """``beliefs`` = ``truth``: the oracle provider (:class:`TruthBeliefs`) on the ground truth."""
+
+    def __init__(self, context: BrainContext, config: CognitionConfig) -> None:
+        self.truth = TruthBeliefs(context)
+
+    def run(self, board: Blackboard) -> None:
+        board.beliefs = self.truth.update(board.frame, board.ground_truth)
 
 
 class TruthBeliefs:
@@ -390,24 +365,6 @@ class TruthBeliefs:
         half_goal = 0.5 * (f.dims.goal_inner_width + f.dims.goal_post_diameter)
         self._goal = (f.half_length, half_goal)
         self.latest: Beliefs | None = None
-        self._pending: tuple[SensorFrame, OracleInput | None] | None = None
-
-    STAGES: ClassVar[tuple[str, ...]] = ("truth beliefs",)
-    """The one module of a frame (:meth:`update` as a stage)."""
-
-    def begin(self, frame: SensorFrame, oracle: OracleInput | None) -> None:
-        """Start a frame (stage interface of :class:`CognitionBeliefs`)."""
-        self._pending = (frame, oracle)
-
-    def run_stage(self, stage: str) -> None:
-        if stage != "truth beliefs":
-            raise ValueError(f"TruthBeliefs has no stage {stage!r}; stages: {list(self.STAGES)}")
-        assert self._pending is not None
-        self.update(*self._pending)
-
-    def finish(self) -> Beliefs:
-        assert self.latest is not None
-        return self.latest
 
     def update(self, frame: SensorFrame, oracle: OracleInput | None) -> Beliefs:
         """Turn this frame's oracle input into beliefs."""
@@ -449,3 +406,28 @@ class TruthBeliefs:
 def _clip(v: float, limit: float) -> float:
     """``v`` limited to [-limit, limit] (the message's ranges)."""
     return max(-limit, min(limit, float(v)))
+
+
+def _beliefs_module(context: BrainContext, config: CognitionConfig) -> Module:
+    """The provider of the ``beliefs`` slot the configuration names."""
+    return TruthModule(context, config) if config.beliefs == "truth" else BeliefsModule(context, config)
+
+
+MODULES: dict[str, Callable[[BrainContext, CognitionConfig], Module]] = {
+    "input check": InputCheckModule,
+    "vision": VisionModule,
+    "localization": LocalizationModule,
+    "team messages": TeamMessagesModule,
+    "ball": BallModule,
+    "hypotheses": HypothesesModule,
+    "team_ball": TeamBallModule,
+    "obstacles": ObstacleModule,
+    "goal": GoalModule,
+    "beliefs": _beliefs_module,
+}
+"""The module class of every slot of :data:`cognition.pipeline.DECLARATIONS` (each builds the
+provider its configuration names)."""
+assert tuple(MODULES) == tuple(DECLARATIONS)
+
+_SLOT_OF: dict[str, str] = {d.stage: slot for slot, opts in DECLARATIONS.items() for d in opts.values()}
+"""The slot of every stage name."""
