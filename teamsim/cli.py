@@ -149,7 +149,7 @@ def _match_parser(sub: Any) -> None:
         choices=list(PLAYERS),
         default=None,
         help="brains of the home team (and of the away team without --opponents): scripted team play "
-        "(default), the foundation's oracle players, or random walkers",
+        "(default) or random walkers",
     )
     p.add_argument("--opponents", choices=list(PLAYERS), default=None, help="brains of the away team")
     p.add_argument(
