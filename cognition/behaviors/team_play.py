@@ -36,10 +36,11 @@ from cognition.behaviors.message_budget import message_due
 from cognition.behaviors.skills import SkillParams, Skills
 from cognition.brain import BrainContext, think_by_stages
 from cognition.gamestate import GameStateId, SetPlay
-from cognition.localization import LocalizationParams
+from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput
 from cognition.representations import BrainOutput, MotionRequest, RobotPose, SensorFrame
 from cognition.vision import VisionParams
+from cognition.worldmodel import OBSTACLE_MODELS
 from cognition.worldmodel.beliefs import Beliefs, CognitionBeliefs, Teammate, TruthBeliefs
 from cognition.worldmodel.kalman_ball import KalmanBallParams
 from cognition.worldmodel.messages import Role
@@ -85,7 +86,13 @@ def _back_role(b: Beliefs, backs: list[Teammate], own_goal_x: float) -> Role:
 
 
 class ScriptedBrain:
-    """The scripted player (module docstring); ``beliefs`` is ``cognition`` or ``truth``."""
+    """The scripted player (module docstring); ``beliefs`` is ``cognition`` or ``truth``.
+
+    ``variant`` (one of :data:`cognition.localization.VARIANTS`) and ``obstacle_model`` (one of
+    :data:`cognition.worldmodel.OBSTACLE_MODELS`) name the cognition stack's modules; an
+    unknown name is an error when the brain is built. With ``variant="oracle"`` or truth
+    beliefs the brain receives the oracle input (``uses_oracle``), otherwise ``None``.
+    """
 
     def __init__(
         self,
@@ -101,6 +108,10 @@ class ScriptedBrain:
     ):
         if beliefs not in ("cognition", "truth"):
             raise ValueError(f"unknown beliefs {beliefs!r}; valid: ['cognition', 'truth']")
+        if variant not in VARIANTS:
+            raise ValueError(f"unknown localization variant {variant!r}; valid: {list(VARIANTS)}")
+        if obstacle_model not in OBSTACLE_MODELS:
+            raise ValueError(f"unknown obstacle model {obstacle_model!r}; valid: {list(OBSTACLE_MODELS)}")
         self.beliefs_mode = beliefs
         self.variant = variant
         self.localization_params = localization_params
