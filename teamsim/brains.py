@@ -4,9 +4,6 @@
 name                       what it is
 =========================  ==================================================================
 BrainFactory               ``(team index, player number) -> Brain``
-oracle_brains              the default factory: scripted oracle players (ground truth)
-localizing_brains          a factory of :class:`~cognition.behaviors.localizing_players.LocalizingBrain`
-                           that run one localization variant and act on their own estimate
 scripted_brains            scripted team play on beliefs (truth or the cognition stack)
 random_brains              random walkers, the baseline opponents
 default_brains             the factory a match uses when the caller gives none
@@ -37,40 +34,6 @@ from cognition.vision import VisionParams
 
 BrainFactory = Callable[[int, int], Brain]
 """Makes the brain of (team index, player number)."""
-
-
-def oracle_brains(team: int, number: int) -> Brain:
-    """The default brain factory: scripted oracle players."""
-    from cognition.behaviors.oracle_players import OracleBrain
-
-    return OracleBrain()
-
-
-def localizing_brains(
-    variant: str,
-    params: LocalizationParams | None = None,
-    return_rule: str | None = None,
-    obstacle_model: str = "sectors",
-    vision: VisionParams | None = None,
-) -> BrainFactory:
-    """A factory of scripted players that localize with ``variant`` (one of ``VARIANTS``).
-
-    ``return_rule`` (the referee's penalty return rule, ``spl2025`` or ``spl2010``) replaces
-    ``params.return_rule`` so that the robots expect penalised players back where the
-    referee really puts them.
-    """
-    from cognition.behaviors.localizing_players import LocalizingBrain
-
-    if variant not in VARIANTS:
-        raise ValueError(f"unknown localization variant {variant!r}; valid: {list(VARIANTS)}")
-    p = params or LocalizationParams()
-    if return_rule is not None:
-        p = replace(p, return_rule=return_rule)
-
-    def factory(team: int, number: int) -> Brain:
-        return LocalizingBrain(variant, p, obstacle_model=obstacle_model, vision=vision)
-
-    return factory
 
 
 def scripted_brains(
@@ -111,17 +74,12 @@ def default_brains(
     obstacle_model: str = "sectors",
     vision: VisionParams | None = None,
 ) -> BrainFactory:
-    """The brains named by ``players``: ``scripted`` (:func:`scripted_brains`), ``oracle`` (oracle
-    players without localization, localizing oracle players with it) or ``random``."""
+    """The brains named by ``players``: ``scripted`` (:func:`scripted_brains`) or ``random``."""
     if players == "scripted":
         return scripted_brains(localization, params, return_rule, obstacle_model, vision)
     if players == "random":
         return random_brains
-    if players != "oracle":
-        raise ValueError(f"unknown players {players!r}; valid: ['scripted', 'oracle', 'random']")
-    if localization is None:
-        return oracle_brains
-    return localizing_brains(localization, params, return_rule, obstacle_model, vision)
+    raise ValueError(f"unknown players {players!r}; valid: ['scripted', 'random']")
 
 
 @dataclass(frozen=True)

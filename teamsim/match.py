@@ -32,18 +32,18 @@ images                   default                       ImageParams or a preset n
 camera                   CameraRig                     head height and the two NAO cameras (320 x 240)
 events                   ()                            scripted events (kidnap, penalties, ...) for players
                                                        of these teams, on this field's carpet
-localization             None                          ``None``: scripted oracle players; a variant name
-                                                       (``cognition.localization.VARIANTS``): the default
-                                                       brains are localizing players that act on their
-                                                       own pose estimate
+localization             None                          ``None``: the default scripted players act on truth
+                                                       beliefs; a variant name
+                                                       (``cognition.localization.VARIANTS``): they run the
+                                                       cognition stack with it and act on their own
+                                                       pose estimate and world model
 localization_params      default                       LocalizationParams (or a mapping); its
                                                        ``return_rule`` is taken from ``referee.rules``
-obstacle_model           sectors                       obstacle model of the localizing players
+obstacle_model           sectors                       obstacle model of the cognition stack's world model
                                                        (``sectors`` or ``grid``)
 players                  scripted                      default brains: ``scripted`` (behaviors on beliefs:
                                                        truth without ``localization``, else the cognition
-                                                       stack), ``oracle`` (the foundation's players) or
-                                                       ``random`` (random walkers)
+                                                       stack) or ``random`` (random walkers)
 vision                   VisionParams                  the brains' vision on camera images (``observation``
                                                        ``images``): line method ``dnt`` or ``hough``, colour
                                                        thresholds (:mod:`cognition.vision`)
@@ -82,7 +82,6 @@ from cognition.representations import MotionRequest, RobotPose, SensorFrame
 from cognition.vision import VisionParams
 from cognition.worldmodel import OBSTACLE_MODELS
 from teamsim.brains import BrainFactory, LocalizationErrors, default_brains
-from teamsim.brains import oracle_brains as oracle_brains  # re-exported
 from teamsim.channel import ChannelParams, TeamChannel
 from teamsim.events import (
     EventLog,
@@ -110,7 +109,7 @@ from teamsim.world import PhysicsParams, World
 MAX_PLAYERS_PER_TEAM = 7
 OBSERVATIONS = ("percepts", "images", "none")
 """Valid values of :attr:`MatchConfig.observation`."""
-PLAYERS = ("scripted", "oracle", "random")
+PLAYERS = ("scripted", "random")
 """Valid values of :attr:`MatchConfig.players` (the default brains)."""
 
 
@@ -161,6 +160,8 @@ class MatchConfig:
         if self.localization is not None:
             check_choice("MatchConfig", "localization", self.localization, VARIANTS)
         check_choice("MatchConfig", "obstacle_model", self.obstacle_model, OBSTACLE_MODELS)
+        if self.players == "oracle":
+            raise ValueError(self._removed_players_message())
         check_choice("MatchConfig", "players", self.players, PLAYERS)
         if self.localization is not None and self.observation == "none" and self.players != "random":
             raise ValueError(
@@ -173,6 +174,20 @@ class MatchConfig:
                 f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
             )
         self._check_events()
+
+    def _removed_players_message(self) -> str:
+        """Why ``players="oracle"`` is refused, and what plays in its place with this localization."""
+        if self.localization is None:
+            instead = "players='scripted' with no localization: scripted team play on truth beliefs"
+        else:
+            instead = (
+                f"players='scripted' with localization={self.localization!r}: scripted team play on the "
+                "cognition stack with that variant"
+            )
+        return (
+            f"MatchConfig.players={self.players!r}: the oracle players were removed; use {instead} "
+            f"(valid players: {list(PLAYERS)})"
+        )
 
     def _check_events(self) -> None:
         """Every event is a scripted event for a player of these teams, on this field's carpet."""

@@ -17,7 +17,7 @@ from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
 from cognition.representations import RobotPose, SensorFrame
 from cognition.worldmodel.beliefs import Beliefs
-from teamsim.brains import LocalizationErrors, scripted_brains
+from teamsim.brains import LocalizationErrors, default_brains, scripted_brains
 from teamsim.camera_views import belief_overlay
 from teamsim.cli import main
 from teamsim.match import Match, MatchConfig
@@ -61,7 +61,7 @@ def runs() -> dict[str, Match]:
 
 # -- (a) matches with players on the cognition stack -----------------------------------------
 @pytest.mark.parametrize("variant", ["odometry", "oracle"])
-def test_localizing_players_report_poses_and_errors(runs: dict[str, Match], variant: str) -> None:
+def test_players_on_the_cognition_stack_report_poses_and_errors(runs: dict[str, Match], variant: str) -> None:
     m = runs[variant]
     assert m.referee.counters.kickoffs  # the game reached PLAYING, robots walked on their estimates
     for i, brain in enumerate(m.brains):
@@ -221,6 +221,13 @@ def test_default_brains_unchanged_by_localization_support() -> None:
     a.run(until=40.0)
     b.run(until=40.0)
     assert a.snapshot() == b.snapshot() and a.log.events == b.log.events
+
+
+def test_default_brains_are_scripted_or_random() -> None:
+    params = LocalizationParams()
+    assert isinstance(default_brains("scripted", "odometry", params, "spl2025")(0, 2), ScriptedBrain)
+    with pytest.raises(ValueError, match=r"unknown players 'oracle'; valid: \['scripted', 'random'\]"):
+        default_brains("oracle", None, params, "spl2025")
 
 
 # -- (c) configuration --------------------------------------------------------------------
