@@ -1,9 +1,9 @@
 """Images per second of the camera-image renderer for every robot of a 5 v 5 match.
 
-Scenes are recorded from a real match (oracle players, ``--seconds`` of play), then every
-robot's image of every recorded scene is rendered on one core. The budget of the image
-issue at 320 x 240: at least 5,000 images/s with the effects off (``ideal``) and at least
-1,500 images/s with the ``default`` effects on.
+Scenes are recorded from a real match (scripted players on truth beliefs, ``--seconds`` of
+play), then every robot's image of every recorded scene is rendered on one core. The budget
+of the image issue at 320 x 240: at least 5,000 images/s with the effects off (``ideal``)
+and at least 1,500 images/s with the ``default`` effects on.
 
 Figures printed (and written as JSON with ``--json PATH``), per resolution ``WxH``:
 

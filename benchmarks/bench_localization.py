@@ -1,13 +1,12 @@
 """Microseconds per localization update versus particle count, on frames from a real match.
 
-Frames of one robot (5 v 5, oracle players, ``default`` percepts) are recorded once; each
-variant then processes all of them on one core, five times from the same start, and every
-frame counts with its fastest pass (robust to load from other processes). ``reset`` adapts its
-particle count (between ``min_particles`` and the count given), so its figures depend
-little on the count. The issue's budget: a
-300-particle update with 4 observations in 60 microseconds or less. Besides the mean over
-all frames, the figure for frames with exactly 4 observations (after line filtering) is
-reported.
+Frames of one robot (5 v 5, scripted players on truth beliefs, ``default`` percepts) are
+recorded once; each variant then processes all of them on one core, five times from the same
+start, and every frame counts with its fastest pass (robust to load from other processes).
+``reset`` adapts its particle count (between ``min_particles`` and the count given), so its
+figures depend little on the count. The issue's budget: a 300-particle update with 4
+observations in 60 microseconds or less. Besides the mean over all frames, the figure for
+frames with exactly 4 observations (after line filtering) is reported.
 
 =====================================  =========================================================
 figure                                 meaning

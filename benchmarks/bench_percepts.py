@@ -1,8 +1,8 @@
 """Cost of percept synthesis for every robot of a 5 v 5 match, per cognition frame.
 
-Scenes are recorded from a real match (oracle players, ``--seconds`` of play), then
-synthesized again and again; the budget of the camera-model issue is 10 microseconds per
-robot-frame with the ``default`` preset.
+Scenes are recorded from a real match (scripted players on truth beliefs, ``--seconds`` of
+play), then synthesized again and again; the budget of the camera-model issue is 10
+microseconds per robot-frame with the ``default`` preset.
 
 Figures printed (and written as JSON with ``--json PATH``), per preset:
 

@@ -8,8 +8,8 @@ figure                     meaning
 physics_steps_per_s        World.step + Referee.update per wall second, robots walking on
                            fixed commands, no cognition (100 Hz physics, 2 sub-steps)
 physics_real_time_factor   simulated seconds per wall second of that loop
-match_steps_per_s          physics steps per wall second of a full Match with oracle
-                           brains at 30 Hz
+match_steps_per_s          physics steps per wall second of the default Match (scripted
+                           players on truth beliefs, percepts synthesized) at 30 Hz
 match_real_time_factor     simulated seconds per wall second of that match
 =========================  ===============================================================
 
@@ -49,7 +49,7 @@ def bench_physics(seconds: float, players: int) -> dict[str, float]:
 
 
 def bench_match(seconds: float, players: int) -> dict[str, float]:
-    """A match with oracle brains (cognition at 30 Hz) for ``seconds`` of simulated time."""
+    """The default match (scripted players on truth beliefs, cognition at 30 Hz) for ``seconds`` of simulated time."""
     match = Match(MatchConfig(players_per_team=players))
     start = time.perf_counter()
     match.run(until=seconds)

@@ -1,11 +1,11 @@
 """Microseconds per robot-frame of the world model: Kalman ball plus team ball.
 
-Frames of one robot (5 v 5, oracle players, ``default`` percepts) are recorded once; the
-Kalman ball then processes them on one core with a fixed pose and three teammates' reports,
-and the team ball fuses them every frame. The world-model issue's budget: 20 microseconds
-or less per robot-frame for the Kalman ball plus the team ball. Each frame counts with its
-fastest of :data:`PASSES` passes spread over several seconds (robust to load from other
-processes on a shared machine).
+Frames of one robot (5 v 5, scripted players on truth beliefs, ``default`` percepts) are
+recorded once; the Kalman ball then processes them on one core with a fixed pose and three
+teammates' reports, and the team ball fuses them every frame. The world-model issue's
+budget: 20 microseconds or less per robot-frame for the Kalman ball plus the team ball. Each
+frame counts with its fastest of :data:`PASSES` passes spread over several seconds (robust
+to load from other processes on a shared machine).
 
 =============================  ==============================================================
 figure                         meaning

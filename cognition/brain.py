@@ -14,8 +14,9 @@ A brain whose frame is a fixed sequence of named stages (its modules) may declar
 
 The single exception is the *oracle* input: a brain whose ``uses_oracle`` attribute is
 ``True`` also receives an :class:`~cognition.oracle.OracleInput` with ground truth. Oracle
-brains exist for baselines and for the foundation's scripted players; every other brain gets
-``None`` there.
+brains exist for baselines (the scripted players on truth beliefs or with the ``oracle``
+localization variant) and for scenario scripts that steer a robot by the truth; every other
+brain gets ``None`` there.
 """
 
 from __future__ import annotations

@@ -149,14 +149,14 @@ def _match_parser(sub: Any) -> None:
         choices=list(PLAYERS),
         default=None,
         help="brains of the home team (and of the away team without --opponents): scripted team play "
-        "(default) or random walkers",
+        "(default; on the truth with --localization none) or random walkers",
     )
     p.add_argument("--opponents", choices=list(PLAYERS), default=None, help="brains of the away team")
     p.add_argument(
         "--obstacles",
         choices=list(OBSTACLE_MODELS),
         default=None,
-        help="obstacle model of the localizing players (default: sectors)",
+        help="obstacle model of the players' world model (default: sectors)",
     )
     p.add_argument(
         "--half-seconds",

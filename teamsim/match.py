@@ -144,6 +144,8 @@ class MatchConfig:
         check_choice("MatchConfig", "field", self.field, FIELD_PRESETS)
         check_choice("MatchConfig", "colours", self.colours, COLOUR_SCHEMES)
         check_choice("MatchConfig", "observation", self.observation, OBSERVATIONS)
+        if self.players == "oracle":
+            raise ValueError(self._removed_players_message())
         check_choice("MatchConfig", "players", self.players, PLAYERS)
         if self.cognition is not None and self.players != "random":
             try:  # the frames this match delivers must carry what the configured modules require
@@ -155,6 +157,20 @@ class MatchConfig:
                 f"MatchConfig.cognition_hz ({self.cognition_hz}) must not exceed physics_hz ({self.physics.physics_hz})"
             )
         self._check_events()
+
+    def _removed_players_message(self) -> str:
+        """Why ``players="oracle"`` is refused, and what plays in its place with this configuration."""
+        if self.cognition is None:
+            instead = "players='scripted' with no cognition: scripted team play on truth beliefs"
+        else:
+            instead = (
+                f"players='scripted' with this cognition ({self.cognition.summary()}): scripted team play "
+                "on that cognition stack"
+            )
+        return (
+            f"MatchConfig.players={self.players!r}: the oracle players were removed; use {instead} "
+            f"(valid players: {list(PLAYERS)})"
+        )
 
     def _check_events(self) -> None:
         """Every event is a scripted event for a player of these teams, on this field's carpet."""

@@ -15,7 +15,7 @@ camera                     percept synthesis, or rendering the camera images wit
 cognition: MODULE          one module of the brains (frame start, input check, vision,
                            localization, team messages, ball model, ball hypotheses, team ball,
                            obstacles, goal model, beliefs, behaviour, team message out; ``other
-                           brains``: brains without stages, e.g. the oracle players)
+                           brains``: brains without stages, e.g. the random walkers)
 cognition: other           the rest of the brains' time (grouping them, collecting outputs)
 match glue                 the match's side of a cognition frame: sensor frames, odometry, team
                            channel, error bookkeeping, commands

@@ -20,7 +20,7 @@ ROBOT = 2
 
 @pytest.fixture(scope="module")
 def seen_frame():
-    """A frame of an oracle striker that sees the ball (its head tracks it)."""
+    """A frame of a scripted player on truth beliefs that sees the ball (its head tracks it)."""
     m = Match(MatchConfig(seed=0))
     while True:
         m.step()

@@ -13,7 +13,7 @@ from cognition.worldmodel.kalman_ball import KalmanBallParams
 from cognition.worldmodel.messages import TeamMessage
 from teamsim.match import Match, MatchConfig
 
-ROBOT = 2  # team 0, player 3: an oracle striker that looks at the ball
+ROBOT = 2  # team 0, player 3: a scripted player on truth beliefs, whose head always tracks the ball
 
 
 def _record(seconds: float, seed: int = 0):

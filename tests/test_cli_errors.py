@@ -91,6 +91,17 @@ BAD_INPUTS: list[tuple[list[str], str | bytes | None, list[str]]] = [
         '{"events": [{"kind": "penalty", "time": 1, "team": 0, "number": 1, "code": 13}]}',
         ["c.json", "MatchConfig.events[0].code", "13"],
     ),
+    # --config: the removed oracle players, with what replaced them
+    (
+        ["match", "--config", "CFG"],
+        '{"players": "oracle"}',
+        ["c.json", "MatchConfig.players='oracle'", "removed", "players='scripted' with no cognition"],
+    ),
+    (
+        ["match", "--config", "CFG"],
+        '{"players": "oracle", "cognition": {"localization": "lowvar"}}',
+        ["c.json", "MatchConfig.players='oracle'", "players='scripted' with this cognition", "localization=lowvar"],
+    ),
     # --config: sections and values of the wrong type
     (["match", "--config", "CFG"], '{"physics": 5}', ["c.json: MatchConfig.physics: expected a mapping"]),
     (["match", "--config", "CFG"], '{"referee": []}', ["c.json: MatchConfig.referee: expected a mapping"]),
@@ -110,6 +121,8 @@ BAD_INPUTS: list[tuple[list[str], str | bytes | None, list[str]]] = [
     (["match", "--half-seconds", "nan"], None, ["argument --half-seconds", "nan"]),
     (["match", "--video-fps", "0"], None, ["argument --video-fps", "> 0"]),
     (["match", "--field", "wembley"], None, ["argument --field", "invalid choice: 'wembley'"]),
+    (["match", "--players", "oracle"], None, ["argument --players", "invalid choice: 'oracle'"]),
+    (["match", "--opponents", "oracle"], None, ["argument --opponents", "invalid choice: 'oracle'"]),
     (["match", *QUICK, "--video-robot", "3:1"], None, ["--video-robot", "'3:1'"]),
     (["match", *QUICK, "--video-robot", "0:4"], None, ["--video-robot", "does not exist", "1..1"]),
     (["match", *QUICK, "--video", "FILE/m.mp4"], None, ["m.mp4"]),

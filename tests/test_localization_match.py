@@ -1,4 +1,4 @@
-"""Localization in matches: localizing players, their errors, the CLI flag and the particle view."""
+"""Localization in matches: scripted players on the cognition stack, their errors, the CLI flag, the particle view."""
 
 from __future__ import annotations
 
@@ -11,12 +11,14 @@ import numpy as np
 import pytest
 
 from cognition.behaviors.head_control import HeadParams
-from cognition.behaviors.localizing_players import LocalizingBrain
+from cognition.behaviors.team_play import ScriptedBrain
 from cognition.field import make_colour_scheme
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.oracle import OracleInput, OraclePose
+from cognition.pipeline import CognitionConfig
 from cognition.representations import RobotPose, SensorFrame
-from teamsim.brains import LocalizationErrors, oracle_brains
+from cognition.worldmodel.beliefs import Beliefs
+from teamsim.brains import LocalizationErrors, default_brains, scripted_brains
 from teamsim.camera_views import belief_overlay
 from teamsim.cli import main
 from teamsim.match import Match, MatchConfig
@@ -38,9 +40,10 @@ needs_particles = pytest.mark.skipif(not _particles_available(), reason="particl
 
 
 def _config(localization: str | None, **kwargs: object) -> MatchConfig:
-    """5 v 5 with a short READY phase: robots walk from about 2 s and play from 17 s."""
+    """5 v 5 scripted team play with a short READY phase: robots walk from about 2 s and play from 17 s."""
     referee = RefereeParams(half_seconds=60.0, ready_seconds=10.0)
-    return replace(MatchConfig(players="oracle", referee=referee, localization=localization), **kwargs)  # type: ignore[arg-type]
+    cognition = None if localization is None else CognitionConfig(localization=localization)
+    return replace(MatchConfig(referee=referee, cognition=cognition), **kwargs)  # type: ignore[arg-type]
 
 
 def _true_team_pose(match: Match, index: int) -> tuple[float, float, float]:
@@ -58,15 +61,16 @@ def runs() -> dict[str, Match]:
     return out
 
 
-# -- (a) matches with localizing players ------------------------------------------------------
+# -- (a) matches with players on the cognition stack -----------------------------------------
 @pytest.mark.parametrize("variant", ["odometry", "oracle"])
-def test_localizing_players_report_poses_and_errors(runs: dict[str, Match], variant: str) -> None:
+def test_players_on_the_cognition_stack_report_poses_and_errors(runs: dict[str, Match], variant: str) -> None:
     m = runs[variant]
     assert m.referee.counters.kickoffs  # the game reached PLAYING, robots walked on their estimates
     for i, brain in enumerate(m.brains):
-        assert isinstance(brain, LocalizingBrain) and brain.variant == variant
+        assert isinstance(brain, ScriptedBrain) and brain.beliefs_mode == "cognition" and brain.variant == variant
         assert isinstance(brain.pose, RobotPose) and brain.pose.variant == variant
-        assert brain.pose is brain.localizer.pose  # type: ignore[union-attr]
+        assert brain.pose is brain.provider.localizer.pose  # type: ignore[union-attr]
+        assert brain.beliefs is not None and brain.beliefs.pose is brain.pose  # the behaviour's pose
         truth = _true_team_pose(m, i)  # now, up to 1/30 s after the estimate's frame
         err = math.hypot(brain.pose.x - truth[0], brain.pose.y - truth[1])
         assert err < (0.02 if variant == "oracle" else 1.5)
@@ -88,80 +92,101 @@ def test_default_match_has_no_localization_report() -> None:
     m = Match(_config(None))
     s = m.run(until=3.0)
     assert s.localization is None and "localization" not in s.format()
-    assert not any(hasattr(b, "pose") for b in m.brains)
+    for brain in m.brains:  # scripted players on truth beliefs: no estimate to report
+        assert isinstance(brain, ScriptedBrain) and brain.beliefs_mode == "truth" and brain.pose is None
+        assert brain.beliefs is not None and brain.beliefs.source == "truth"
 
 
-class _SpyBrain(LocalizingBrain):
-    """Records the truth handed to the localizer and the own pose the decisions use."""
+class _SpyBrain(ScriptedBrain):
+    """Records the oracle input of every frame, the truth handed to the localizer, the
+    localizer's estimates and the own pose the decisions use."""
 
     def reset(self, context):  # type: ignore[no-untyped-def]
         super().reset(context)
-        self.truths: list[object] = []
-        self.used: list[tuple[float, float, float]] = []
+        self.oracles: list[OracleInput | None] = []
+        self.truths: list[tuple[float, float, float] | None] = []
         self.estimates: list[tuple[float, float, float]] = []
-        self.oracle_truth: list[tuple[float, float, float]] = []
-        update = self.localizer.update  # type: ignore[union-attr]
+        self.used: list[tuple[float, float, float]] = []
+        localizer = self.provider.localizer  # type: ignore[union-attr]
+        update = localizer.update
 
         def spy(frame: SensorFrame, truth: tuple[float, float, float] | None = None) -> RobotPose:
             self.truths.append(truth)
-            return update(frame, truth)
+            pose = update(frame, truth)
+            self.estimates.append(pose.pose)
+            return pose
 
-        self.localizer.update = spy  # type: ignore[union-attr, method-assign]
+        localizer.update = spy  # type: ignore[method-assign]
 
-    def think(self, frame, oracle):  # type: ignore[no-untyped-def]
-        me = oracle.self_pose
-        self.oracle_truth.append((me.x, me.y, me.theta))
-        out = super().think(frame, oracle)
-        assert self.pose is not None
-        self.estimates.append(self.pose.pose)
-        return out
+    def begin(self, frame, oracle):  # type: ignore[no-untyped-def]
+        self.oracles.append(oracle)
+        super().begin(frame, oracle)
 
-    def _transition(self, frame, oracle):  # type: ignore[no-untyped-def]
-        me = oracle.self_pose
-        self.used.append((me.x, me.y, me.theta))
-        return super()._transition(frame, oracle)
+    def _transition(self, b: Beliefs) -> str:
+        self.used.append(b.pose.pose)
+        return super()._transition(b)
 
 
 @pytest.mark.parametrize("variant", ["odometry", "oracle"])
 def test_brain_acts_on_its_estimate_and_only_oracle_gets_truth(variant: str) -> None:
-    m = Match(_config(variant, players_per_team=2), brains=lambda team, number: _SpyBrain(variant))
+    m = Match(
+        _config(variant, players_per_team=2),
+        brains=lambda team, number: _SpyBrain(CognitionConfig(localization=variant)),
+    )
     m.run(until=12.0)
     for brain in m.brains:
-        assert isinstance(brain, _SpyBrain)
+        assert isinstance(brain, _SpyBrain) and brain.uses_oracle == (variant == "oracle")
+        assert len(brain.oracles) == len(brain.truths) == len(brain.used) == m.frames  # every frame
         assert brain.used == brain.estimates  # decisions read the estimate ...
         if variant == "oracle":
-            assert brain.truths == brain.oracle_truth
+            assert all(o is not None for o in brain.oracles)
+            truth = [(o.self_pose.x, o.self_pose.y, o.self_pose.theta) for o in brain.oracles]  # type: ignore[union-attr]
+            assert brain.truths == truth and brain.estimates == truth  # the oracle variant's pose is the truth
         else:
-            assert all(t is None for t in brain.truths)  # ... and no truth reaches the localizer
-            assert max(math.dist(e[:2], t[:2]) for e, t in zip(brain.estimates, brain.oracle_truth, strict=True)) > 1e-3
+            assert all(o is None for o in brain.oracles)  # ... no ground truth reaches the brain ...
+            assert all(t is None for t in brain.truths)  # ... nor its localizer
+    loc = m.localization_errors.summary()
+    assert loc is not None
+    if variant == "oracle":
+        assert loc.position_error_p90 < 1e-9 and loc.heading_error_mean < 1e-6
+    else:
+        assert loc.position_error_p90 > 1e-3  # dead reckoning drifts away from the truth
 
 
 def test_head_scans_every_few_seconds_and_while_lost() -> None:
     m = Match(_config("odometry", players_per_team=1))
     robot = m.world.robots[0]
+    brain = m.brains[0]
+    assert isinstance(brain, ScriptedBrain)
     yaws, states = [], []
     while m.time < 16.0:
         m.step()
         yaws.append(robot.head.yaw)
-        states.append(m.brains[0].head_state)  # type: ignore[attr-defined]
+        states.append(brain.head.state)
     scan_share = states.count("scan") / len(states)
     assert 0.1 < scan_share < 0.35  # about 1 s in every 5 s
     assert min(yaws) < -1.2 and max(yaws) > 1.2 and max(abs(y) for y in yaws) <= 1.5 + 1e-9
 
     # a lost estimate makes the head scan outside the routine window too
-    brain = LocalizingBrain("oracle", head_params=HeadParams(scan_period=100.0, scan_duration=0.5))
-    brain.reset(m.brains[0].context)  # type: ignore[attr-defined]
+    brain = ScriptedBrain(
+        CognitionConfig(localization="oracle"), head_params=HeadParams(scan_period=100.0, scan_duration=0.5)
+    )
+    brain.reset(m.brains[0].context)  # type: ignore[arg-type]
     frame = m.last_frames[0]
     assert frame is not None
-    me = OraclePose(1, -1.0, 0.0, 0.0)
-    oracle = OracleInput(me, (), (), 0.0, 2.0, 0.0, 0.0)  # ball 63 degrees to the left
-    frame = replace(frame, time=50.0)
-    out = brain.think(frame, oracle)
-    assert brain.head_state == "ball" and out.motion.head.yaw > 0.5
-    lost = replace(brain.localizer.pose, lost=True)  # type: ignore[union-attr]
-    brain.localizer._update = lambda frame, truth: lost  # type: ignore[union-attr, method-assign]
-    out = brain.think(replace(frame, time=50.1), oracle)
-    assert brain.head_state == "scan" and abs(out.motion.head.yaw) == pytest.approx(1.4)
+    oracle = OracleInput(OraclePose(1, -1.0, 0.0, 0.0), (), (), 0.0, 2.0, 0.0, 0.0)  # the variant reads the pose
+    frame = replace(frame, time=50.0)  # routine scans of player 1 run from 0.7 s to 1.2 s of every 100 s
+    brain.think(frame, oracle)
+    assert not brain.pose.lost and brain.head.state != "scan"  # type: ignore[union-attr]
+    localizer = brain.provider.localizer  # type: ignore[union-attr]
+    lost = replace(localizer.pose, lost=True)
+    localizer._update = lambda frame, truth: lost  # type: ignore[method-assign]
+    yaws = []
+    for k in range(30):  # one second: two legs of the 0.5 s sweep
+        out = brain.think(replace(frame, time=50.1 + k / 30.0), oracle)
+        assert brain.head.state == "scan"
+        yaws.append(out.motion.head.yaw)
+    assert min(yaws) == pytest.approx(-1.4, abs=0.1) and max(yaws) == pytest.approx(1.4, abs=0.1)
 
 
 # -- (b) determinism and random streams ----------------------------------------------------
@@ -186,37 +211,50 @@ def test_brain_streams_are_new_children_after_the_old_ones() -> None:
     new = np.random.SeedSequence(cfg.seed).spawn(5 + 6 * n)
     states = set()
     for k, brain in enumerate(m.brains):
-        rng = brain.localizer.rng  # type: ignore[attr-defined]
+        rng = brain.provider.localizer.rng  # type: ignore[attr-defined]
         assert rng.bit_generator.state == np.random.Generator(np.random.PCG64(new[5 + 4 * n + k])).bit_generator.state
         states.add(str(rng.bit_generator.state))
     assert len(states) == 2 * n
 
 
 def test_default_brains_unchanged_by_localization_support() -> None:
-    cfg = MatchConfig(players="oracle", referee=RefereeParams(half_seconds=20.0, ready_seconds=8.0), players_per_team=3)
-    a, b = Match(cfg), Match(cfg, brains=oracle_brains)
+    cfg = MatchConfig(referee=RefereeParams(half_seconds=20.0, ready_seconds=8.0), players_per_team=3)
+    a, b = Match(cfg), Match(cfg, brains=scripted_brains(None))  # default: scripted play on truth beliefs
     a.run(until=40.0)
     b.run(until=40.0)
     assert a.snapshot() == b.snapshot() and a.log.events == b.log.events
 
 
+def test_default_brains_are_scripted_or_random() -> None:
+    brain = default_brains("scripted", CognitionConfig(localization="odometry"), "spl2010")(0, 2)
+    assert isinstance(brain, ScriptedBrain) and brain.cognition.localization == "odometry"
+    assert brain.cognition.localization_params.return_rule == "spl2010"  # the referee's rule
+    with pytest.raises(ValueError, match=r"unknown players 'oracle'; valid: \['scripted', 'random'\]"):
+        default_brains("oracle", None, "spl2025")
+
+
 # -- (c) configuration --------------------------------------------------------------------
 def test_unknown_variant_names_the_valid_ones() -> None:
-    with pytest.raises(ValueError, match=r"MatchConfig\.localization must be one of .*'mcl'.*'oracle'"):
-        MatchConfig(players="oracle", localization="kalman")
-    with pytest.raises(ValueError, match=r"unknown localization variant 'kalman'; valid: .*'amcl'"):
-        LocalizingBrain("kalman")
+    with pytest.raises(ValueError, match=r"MatchConfig\.cognition\.localization must be one of .*'mcl'.*'oracle'"):
+        MatchConfig.from_mapping({"cognition": {"localization": "kalman"}})
+    with pytest.raises(ValueError, match=r"CognitionConfig\.localization must be one of .*'amcl'.*got 'kalman'"):
+        ScriptedBrain(CognitionConfig(localization="kalman"))
 
 
 def test_localization_params_from_mapping_and_return_rule_from_referee() -> None:
     cfg = MatchConfig.from_mapping(
-        {"localization": "odometry", "localization_params": {"particles": 120}, "referee": {"rules": "spl2010"}}
+        {
+            "cognition": {"localization": "odometry", "localization_params": {"particles": 120}},
+            "referee": {"rules": "spl2010"},
+        }
     )
-    assert cfg.localization_params == LocalizationParams(particles=120)
-    with pytest.raises(ValueError, match=r"unknown MatchConfig\.localization_params key\(s\) \['partcles'\]"):
-        MatchConfig.from_mapping({"localization_params": {"partcles": 3}})
+    assert cfg.cognition is not None and cfg.cognition.localization_params == LocalizationParams(particles=120)
+    with pytest.raises(
+        ValueError, match=r"unknown MatchConfig\.cognition\.localization_params key\(s\) \['partcles'\]"
+    ):
+        MatchConfig.from_mapping({"cognition": {"localization_params": {"partcles": 3}}})
     with pytest.raises(TypeError, match="localization_params"):
-        MatchConfig(players="oracle", localization_params=3)  # type: ignore[arg-type]
+        CognitionConfig(localization_params=3)  # type: ignore[arg-type]
     m = Match(replace(cfg, players_per_team=1))
     for brain in m.brains:
         params = brain.provider.localizer.params  # type: ignore[attr-defined]
@@ -273,7 +311,7 @@ def test_belief_overlay_converts_team_to_world_frame() -> None:
     brain = m.brains[2]  # team 1 player 1, attacking world -x in the first half
     assert m.referee.sign(1) == -1.0
     particles = np.array([[1.0, 2.0, 0.5], [-3.0, 0.5, -3.0]])
-    brain.localizer.pose = RobotPose(1.0, 2.0, 0.5, np.eye(3), True, 2, particles, np.full(2, 0.5), "x")  # type: ignore[attr-defined]
+    brain.pose = RobotPose(1.0, 2.0, 0.5, np.eye(3), True, 2, particles, np.full(2, 0.5), "x")  # type: ignore[attr-defined]
     b = belief_overlay(m, 1, 1)
     assert b is not None and b.team == 1 and b.lost
     assert (b.x, b.y) == (-1.0, -2.0) and b.theta == pytest.approx(0.5 - math.pi)

@@ -109,6 +109,17 @@ def test_team_sizes_and_fields(players: int) -> None:
         ({"field": "spl1999"}, "field"),
         ({"cognition_hz": -30.0}, "cognition_hz"),
         ({"seed": -1}, "seed"),
+        (
+            {"players": "oracle"},
+            r"MatchConfig\.players='oracle': the oracle players were removed; use players='scripted' with no "
+            r"cognition: scripted team play on truth beliefs",
+        ),
+        (
+            {"players": "oracle", "cognition": {"localization": "odometry"}},
+            r"MatchConfig\.players='oracle'.* use players='scripted' with this cognition \(.*localization=odometry.*"
+            r"\): scripted team play on that cognition stack",
+        ),
+        ({"players": "human"}, r"MatchConfig\.players must be one of \['scripted', 'random'\], got 'human'"),
     ],
 )
 def test_bad_match_config(kwargs: dict[str, object], message: str) -> None:

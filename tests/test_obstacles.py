@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from cognition.percepts import Kind
+from cognition.pipeline import CognitionConfig
 from cognition.representations import OdometryReading
 from cognition.worldmodel.obstacles import SECTORS, ObstacleGrid, ObstacleGridParams, ObstacleSectors
 from teamsim.match import Match, MatchConfig
@@ -18,7 +19,7 @@ ROBOT = 2
 @pytest.fixture(scope="module")
 def frames_with_truth():
     """Frames of one robot and, per frame, the other robots' positions in its robot frame."""
-    m = Match(MatchConfig(players="oracle", seed=5))
+    m = Match(MatchConfig(seed=5))  # scripted team play on truth beliefs
     out, last = [], None
     while m.time < 20.0:
         m.step()
@@ -142,7 +143,7 @@ def test_bad_parameters_are_clear_errors():
 
 
 def test_models_are_chosen_by_name():
-    from cognition.behaviors.localizing_players import LocalizingBrain
+    from cognition.behaviors.team_play import ScriptedBrain
     from cognition.worldmodel import make_ball_model, make_obstacle_model
     from cognition.worldmodel.ball import KalmanBallModel
     from cognition.worldmodel.hypotheses import BallHypotheses
@@ -155,10 +156,10 @@ def test_models_are_chosen_by_name():
         make_obstacle_model("lidar")
     with pytest.raises(ValueError, match="unknown ball model"):
         make_ball_model("magic", 0.05)
-    with pytest.raises(ValueError, match="unknown obstacle model"):
-        LocalizingBrain("lowvar", obstacle_model="lidar")
-    m = Match(
-        MatchConfig(players="oracle", seed=6), brains=lambda t, n: LocalizingBrain("lowvar", obstacle_model="grid")
-    )
+    with pytest.raises(ValueError, match=r"CognitionConfig\.obstacles must be one of .*got 'lidar'"):
+        ScriptedBrain(CognitionConfig(localization="lowvar", obstacles="lidar"))
+    grid = CognitionConfig(localization="lowvar", obstacles="grid")
+    m = Match(MatchConfig(seed=6), brains=lambda t, n: ScriptedBrain(grid))
     m.run(until=3.0)
-    assert isinstance(m.brains[0].obstacles, ObstacleGrid) and m.brains[0].obstacle_model is not None
+    provider = m.brains[0].provider  # type: ignore[attr-defined]
+    assert isinstance(provider.obstacles, ObstacleGrid) and provider.obstacle_model is not None

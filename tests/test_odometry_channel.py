@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from cognition.pipeline import CognitionConfig
 from cognition.representations import HeadRequest, OdometryReading, WalkRequest
 from teamsim.channel import ChannelParams, TeamChannel
 from teamsim.match import Match, MatchConfig
@@ -134,10 +135,12 @@ def test_channel_rejects_bad_messages() -> None:
 
 
 def test_match_budget_spread_over_the_game() -> None:
-    """Oracle players pace their status messages; the team budget is never exceeded."""
-    cfg = MatchConfig(seed=2, channel=ChannelParams(budget=60))
+    """Scripted players on the cognition stack pace their team messages: a budget of 60 for a
+    2 x 600 s game lets each of the 5 players send once per 1200 * 5 / 60 = 100 s, so in the
+    first 120 s (PLAYING from about 28 s) each sends once, at kickoff, and nothing is refused."""
+    cfg = MatchConfig(seed=2, cognition=CognitionConfig(localization="odometry"), channel=ChannelParams(budget=60))
     match = Match(cfg)
     match.run(until=120.0)
     for team in (0, 1):
-        assert match.channel.stats[team].sent <= 60
+        assert match.channel.stats[team].sent == cfg.players_per_team
         assert match.channel.stats[team].refused == 0

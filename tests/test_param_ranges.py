@@ -28,7 +28,6 @@ import envs
 import teamsim
 from cognition.behaviors.actions import CONTINUOUS_SIZE, ActionError, ActionParams, check_action
 from cognition.behaviors.head_control import HeadParams
-from cognition.behaviors.oracle_players import OracleParams
 from cognition.behaviors.skills import SkillParams
 from cognition.camera import NAO_LOWER, NAO_UPPER, CameraRig, CameraSpec
 from cognition.field import FIELD_PRESETS, FieldDimensions
@@ -79,7 +78,6 @@ BASES: dict[type, Any] = {
     HeadParams: HeadParams(),
     ActionParams: ActionParams(),
     SkillParams: SkillParams(),
-    OracleParams: OracleParams(),
     EnvConfig: EnvConfig(),
     VisionParams: VisionParams(),
     ColourParams: ColourParams(),

@@ -13,9 +13,8 @@ scan     the pose estimate is ``lost`` or its position std exceeds ``uncertain_s
          ``scan_period`` s, player n shifted by n * ``player_offset`` s so that the team does not
          look away from the ball all at once. A triangle sweep of the yaw (robot frame) between
          ``-scan_yaw`` and ``+scan_yaw`` at ``scan_pitch``, upper camera, starting on the side the
-         head points to (:class:`HeadSweep`, shared with
-         :mod:`cognition.behaviors.localizing_players`). The lost scan comes first; the routine
-         scan yields to ``look_at``
+         head points to (:class:`HeadSweep`). The lost scan comes first; the routine scan yields
+         to ``look_at``
 look_at  the world model asks to check a suspicious ball (``Beliefs.look_at``, robot frame)
 search   nobody knows where the ball is: the same sweep as ``scan``
 ball     look at the ball (``Beliefs.best_ball()`` through the estimated pose)
@@ -53,8 +52,7 @@ Every value is checked against its range when the parameters are built
 (:func:`cognition.params.check_ranges`).
 
 The routine timing and the sweep (``scan_period`` to ``player_offset``) live in
-:class:`HeadSweep`, which :class:`~cognition.behaviors.localizing_players.LocalizingBrain`
-uses too; it reads only those six rows.
+:class:`HeadSweep`, which reads only those six rows.
 """
 
 from __future__ import annotations

@@ -1,16 +1,16 @@
 """When a player may send its next team message: the team's budget spread over the game.
 
 SPL teams may send at most 1200 messages per game (:data:`cognition.gamestate.TEAM_MESSAGE_BUDGET`),
-and the GameController counts down what is left (``TeamInfo.message_budget``). Every scripted
-player sends only while PLAYING, at an interval that spreads the team's remaining budget over
+and the GameController counts down what is left (``TeamInfo.message_budget``). A player
+sends only while PLAYING, at an interval that spreads the team's remaining budget over
 the remaining game time, each player taking its share, and never faster than a minimum
 interval:
 
     interval = max(min_interval, remaining game seconds * players per team / remaining budget)
 
 The remaining game time counts the second half during the first half (``secs_remaining``
-doubled). Used by :class:`~cognition.behaviors.oracle_players.OracleBrain` and
-:class:`~cognition.behaviors.team_play.ScriptedBrain`.
+doubled). Used by :class:`~cognition.behaviors.team_play.ScriptedBrain` and
+:class:`~cognition.behaviors.actions.PolicyBrain`.
 """
 
 from __future__ import annotations
