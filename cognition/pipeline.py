@@ -52,7 +52,7 @@ from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 from cognition.localization import VARIANTS, LocalizationParams
-from cognition.params import check_choice, from_mapping
+from cognition.params import Ranges, check_choice, check_ranges, from_mapping
 from cognition.vision import VisionParams
 from cognition.worldmodel.kalman_ball import KalmanBallParams
 
@@ -149,25 +149,17 @@ class CognitionConfig:
     vision_params: VisionParams = field(default_factory=VisionParams)
     ball_params: KalmanBallParams = field(default_factory=KalmanBallParams)
 
+    RANGES: ClassVar[Ranges] = {}
+    """No numeric fields: the providers are names, the parameters are checked by their own classes."""
     SLOTS: ClassVar[tuple[str, ...]] = (
         "beliefs", "vision", "localization", "ball", "hypotheses", "team_ball", "obstacles", "goal",
     )  # fmt: skip
     """The fields that name a provider."""
 
     def __post_init__(self) -> None:
-        for name, cls in (
-            ("localization_params", LocalizationParams),
-            ("vision_params", VisionParams),
-            ("ball_params", KalmanBallParams),
-        ):
-            value = getattr(self, name)
-            if not isinstance(value, cls):
-                raise TypeError(f"CognitionConfig.{name} must be a {cls.__name__}, got {value!r}")
+        check_ranges(self)  # provider names are strings, every parameters section is its class
         for slot in self.SLOTS:
-            value = getattr(self, slot)
-            if not isinstance(value, str):
-                raise TypeError(f"CognitionConfig.{slot} must be a provider name (str), got {value!r}")
-            check_choice("CognitionConfig", slot, value, providers(slot))
+            check_choice("CognitionConfig", slot, getattr(self, slot), providers(slot))
         method = self.vision_params.method
         if method != self.vision:
             if method != VisionParams().method:

@@ -67,7 +67,8 @@ def test_players_on_the_cognition_stack_report_poses_and_errors(runs: dict[str, 
     m = runs[variant]
     assert m.referee.counters.kickoffs  # the game reached PLAYING, robots walked on their estimates
     for i, brain in enumerate(m.brains):
-        assert isinstance(brain, ScriptedBrain) and brain.beliefs_mode == "cognition" and brain.variant == variant
+        assert isinstance(brain, ScriptedBrain) and brain.cognition.beliefs == "cognition"
+        assert brain.cognition.localization == variant
         assert isinstance(brain.pose, RobotPose) and brain.pose.variant == variant
         assert brain.pose is brain.provider.localizer.pose  # type: ignore[union-attr]
         assert brain.beliefs is not None and brain.beliefs.pose is brain.pose  # the behaviour's pose
@@ -93,7 +94,7 @@ def test_default_match_has_no_localization_report() -> None:
     s = m.run(until=3.0)
     assert s.localization is None and "localization" not in s.format()
     for brain in m.brains:  # scripted players on truth beliefs: no estimate to report
-        assert isinstance(brain, ScriptedBrain) and brain.beliefs_mode == "truth" and brain.pose is None
+        assert isinstance(brain, ScriptedBrain) and brain.cognition.beliefs == "truth" and brain.pose is None
         assert brain.beliefs is not None and brain.beliefs.source == "truth"
 
 
@@ -282,7 +283,7 @@ def test_cli_match_with_localization(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert "localization   odometry: position error mean" in text and "lost 0.0%" in text
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["localization"]["variant"] == "odometry" and summary["localization"]["frames"] > 0
-    assert json.loads((tmp_path / "config.json").read_text())["localization"] == "odometry"
+    assert json.loads((tmp_path / "config.json").read_text())["cognition"]["localization"] == "odometry"
 
 
 @pytest.mark.parametrize(
@@ -290,7 +291,7 @@ def test_cli_match_with_localization(tmp_path: Path, capsys: pytest.CaptureFixtu
     [
         (["--video-particles"], "needs --video"),
         (["--video-particles", "--video", "x.gif", "--video-robot", "none"], "needs --video"),
-        (["--video-particles", "--video", "x.gif", "--localization", "none"], "needs --localization"),
+        (["--video-particles", "--video", "x.gif", "--localization", "none"], "needs a cognition stack"),
     ],
 )
 def test_cli_video_particles_needs_video_and_localization(

@@ -33,6 +33,7 @@ from cognition.camera import NAO_LOWER, NAO_UPPER, CameraRig, CameraSpec
 from cognition.field import FIELD_PRESETS, FieldDimensions
 from cognition.localization import LocalizationParams
 from cognition.params import PROBABILITY, Range, check_number, positive
+from cognition.pipeline import CognitionConfig
 from cognition.representations import HeadRequest, KickRequest, WalkRequest
 from cognition.vision import ColourParams, VisionParams
 from cognition.vision.ball import BallParams
@@ -71,6 +72,7 @@ BASES: dict[type, Any] = {
     CameraRig: CameraRig(),
     FieldDimensions: FIELD_PRESETS["spl2025"],
     LocalizationParams: LocalizationParams(),
+    CognitionConfig: CognitionConfig(),
     ObstacleGridParams: ObstacleGridParams(),
     HypothesisParams: HypothesisParams(),
     GoalModelParams: GoalModelParams(),
