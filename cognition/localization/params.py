@@ -55,6 +55,14 @@ min_particles              150             [1, 100000]    the adaptive count nev
                                                           rule that fewer particles are drawn as the weights
                                                           grow (with a floor of 50, 3% of match frames were off
                                                           by > 3 m: too few particles to keep the right mode)
+kld                        False           true/false     KLD-sampling (Fox 2003, :mod:`.kld`): every resampling
+                                                          draws as many particles as the posterior's spread needs
+                                                          (replaces the variant's count)
+kld_epsilon                0.1             (0, 1]         the bound on the Kullback-Leibler distance
+kld_z                      2.326           (0, 10]        upper quantile of the standard normal (delta 0.01)
+kld_bin_xy                 0.25 m          (0, 10]        KLD bin size in x and y
+kld_bin_theta              10 deg          (0, pi]        KLD bin size in theta
+kld_min_particles          60              [1, 100000]    the KLD count never goes below min(this, particles)
 reset_from_any_feature     False           true/false     DNT 4.5: also reset from one random feature of any kind
 maturing_threshold         7               [1, 10000]     Darmstadt VI: consistent frames with a landmark that a
                                                           candidate pose needs before it may replace particles
@@ -173,6 +181,12 @@ class LocalizationParams:
     injection_max: float = 0.3
     reset_probability: float = 0.1
     min_particles: int = 150
+    kld: bool = False
+    kld_epsilon: float = 0.1
+    kld_z: float = 2.326
+    kld_bin_xy: float = 0.25
+    kld_bin_theta: float = 10.0 * _DEG
+    kld_min_particles: int = 60
     reset_from_any_feature: bool = False
     maturing_threshold: int = 7
     maturing_candidates: int = 40
@@ -230,6 +244,11 @@ class LocalizationParams:
         "injection_max": PROBABILITY,
         "reset_probability": PROBABILITY,
         "min_particles": Range(1, MAX_PARTICLES),
+        "kld_epsilon": Range(0.0, 1.0, low_open=True),
+        "kld_z": positive(10.0),
+        "kld_bin_xy": positive(10.0),
+        "kld_bin_theta": positive(math.pi),
+        "kld_min_particles": Range(1, MAX_PARTICLES),
         "maturing_threshold": Range(1, 10_000),
         "maturing_candidates": Range(1, MAX_CANDIDATES),
         "maturing_consistency": PROBABILITY,

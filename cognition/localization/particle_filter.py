@@ -113,6 +113,7 @@ from cognition.localization import kernels as K  # noqa: N812 - short kernel nam
 from cognition.localization.amcl import AMCLInjection
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
+from cognition.localization.kld import kld_count
 from cognition.localization.low_variance import LOW_VARIANCE
 from cognition.localization.maturing import Maturing
 from cognition.localization.multinomial import MULTINOMIAL
@@ -394,6 +395,11 @@ class ParticleFilter(Localizer):
         inj = self.injection
         n_old = self.n
         n_new = inj.count(n_old, w_avg)
+        if p.kld:
+            lo = min(p.kld_min_particles, p.particles)
+            n_new = kld_count(
+                self.parts, self.w, n_old, lo, p.particles, p.kld_epsilon, p.kld_z, p.kld_bin_xy, p.kld_bin_theta
+            )
         share = inj.share(w_raw, lost)
         m_inj = int(self.rng.binomial(n_new, share)) if share > 0.0 else 0
         resample_nb(
