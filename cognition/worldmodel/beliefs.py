@@ -1,22 +1,26 @@
-"""Beliefs: everything a behavior or a policy may read about the world, from one provider.
+"""Beliefs: everything a behavior or a policy may read about the world, and the frame that makes them.
 
 A behavior never reads the sensor frame's raw contents or the ground truth directly; it reads a
-:class:`Beliefs`. Two providers make one per cognition frame, so that the same behavior or
-policy runs on real cognition or on the truth (DESIGN "data flow": the ``truth`` mode swaps
-localization and world model for oracle providers):
+:class:`Beliefs`, the ``beliefs`` representation of the cognition pipeline
+(:mod:`cognition.pipeline`). :class:`CognitionBeliefs` runs one robot's planned modules
+(:mod:`cognition.modules`) on a blackboard and hands out their beliefs, so that the same
+behavior or policy runs on real cognition or on the truth (DESIGN "data flow": the ``truth``
+mode swaps localization and world model for oracle providers). The ``beliefs`` slot has two
+providers, both here:
 
 =====================  ============================================================================
-provider               what it runs
+provider               what it does
 =====================  ============================================================================
-CognitionBeliefs       a localization variant (:func:`cognition.localization.make_localizer`), the
-                       Kalman ball (Darmstadt V), the CMU ball hypotheses (IV.A, for active gaze),
-                       teammates' messages and the team ball, the goal model (CMU IV.B) and an
-                       obstacle model (Darmstadt VII); it also writes the robot's team message
-TruthBeliefs           reads the :class:`~cognition.oracle.OracleInput`: exact pose, ball, robots
+``cognition``          :class:`BeliefsModule`: assembles the frame's robot pose (a localization
+                       variant), Kalman ball (Darmstadt V), ball hypotheses (CMU IV.A, for active
+                       gaze), teammates and team ball, goal (CMU IV.B) and obstacles (Darmstadt
+                       VII); :meth:`CognitionBeliefs.message` writes the robot's team message
+``truth``              :class:`TruthModule` (:class:`TruthBeliefs`): reads the
+                       :class:`~cognition.oracle.OracleInput`: exact pose, ball, robots
 =====================  ============================================================================
 
-Input the robot cannot trust never reaches a model: :class:`CognitionBeliefs` first runs the
-frame through :class:`~cognition.inputs.InputCheck` (non-finite or implausible odometry
+Input the robot cannot trust never reaches a model: the pipeline first runs the frame through
+:class:`~cognition.inputs.InputCheck` (non-finite or implausible odometry
 becomes no motion) and the team messages through :class:`~cognition.worldmodel.team.TeamState`
 (invalid ones are dropped); :meth:`CognitionBeliefs.rejected_inputs` counts both by kind.
 
