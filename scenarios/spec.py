@@ -15,8 +15,10 @@ seeds               10          seeds a study runs by default (``--seeds`` overr
 variants            (required)  a list of localization variants (``mcl``, ``lowvar``, ``amcl``, ``reset``,
                                 ``maturing``, ``odometry``, ``oracle``), or tables ``[variants.NAME]`` with
                                 ``localization``, ``localization_params``, ``ball`` (Kalman ball params),
-                                ``observation`` (``percepts`` or ``images``: overrides the match's) and
-                                ``vision`` (:class:`~cognition.vision.VisionParams`, for ``images``)
+                                ``observation`` (``percepts`` or ``images``: overrides the match's),
+                                ``vision`` (:class:`~cognition.vision.VisionParams`, for ``images``) and
+                                ``modules`` (providers of the other slots of the cognition frame, e.g.
+                                ``{ obstacles = "grid", goal = "none" }``: :mod:`cognition.pipeline`)
 match               {}          :class:`~teamsim.match.MatchConfig` keys (field, players_per_team, percepts,
                                 referee, ...) except ``seed``, ``events``, ``cognition``, ``players`` (the brains
                                 are the teams' and the variants')
@@ -74,7 +76,7 @@ from cognition.field import FIELD_PRESETS
 from cognition.gamestate import Penalty
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.params import Range, check_choice, check_number, from_mapping
-from cognition.pipeline import CognitionConfig
+from cognition.pipeline import CognitionConfig, providers
 from cognition.vision import VisionParams
 from cognition.worldmodel.kalman_ball import KalmanBallParams
 from teamsim.events import ForceFall, ForcePenalty, Kidnap, PlaceBall, ScriptedEvent
@@ -88,6 +90,9 @@ METRICS = ("localization", "recovery", "ball", "goals")
 REGIONS = ("field", "own-half", "opponent-half")
 TEAMS = {"home": 0, "away": 1}
 RESERVED_MATCH_KEYS = ("seed", "events", "cognition", "players")
+MODULE_SLOTS = ("ball", "hypotheses", "team_ball", "obstacles", "goal")
+"""Slots of the cognition frame a variant's ``modules`` table may set (localization and vision
+have their own keys)."""
 MAX_DURATION = 3600.0
 MAX_SEEDS = 10_000
 MAX_EVENTS = 1000
@@ -115,16 +120,20 @@ class Variant:
     """``percepts`` or ``images`` for this variant's runs (``None``: the match's observation)."""
     vision: VisionParams = field(default_factory=VisionParams)
     """The home brains' vision (used with ``images``)."""
+    modules: tuple[tuple[str, str], ...] = ()
+    """(slot, provider) of the cognition frame's other slots (:data:`MODULE_SLOTS`); the rest keep
+    their default providers."""
 
     def cognition(self) -> CognitionConfig:
-        """The home brains' cognition frame: this variant's localization, Kalman ball and vision;
-        every other slot at its default provider."""
+        """The home brains' cognition frame: this variant's localization, Kalman ball, vision and
+        module providers; every other slot at its default provider."""
         return CognitionConfig(
             localization=self.localization,
             localization_params=self.localization_params,
             ball_params=self.ball,
             vision=self.vision.method,
             vision_params=self.vision,
+            **dict(self.modules),
         )
 
 
@@ -389,14 +398,17 @@ def _variants(raw: Any) -> tuple[tuple[Variant, ...], bool]:
     out = []
     for vname, table in raw.items():
         where = f"variants.{vname}"
-        keys = ("localization", "localization_params", "ball", "observation", "vision")
+        keys = ("localization", "localization_params", "ball", "observation", "vision", "modules")
         t = _keys(table, where, keys, ("localization",))
         loc = _choice(t["localization"], f"{where}.localization", VARIANTS)
         lp = LocalizationParams.from_mapping(t.get("localization_params", {}))
         bp = from_mapping(KalmanBallParams, t.get("ball", {}), f"{where}.ball")
         obs = _choice(t["observation"], f"{where}.observation", ("percepts", "images")) if "observation" in t else None
         vp = from_mapping(VisionParams, t.get("vision", {}), f"{where}.vision")
-        out.append(Variant(vname, loc, lp, bp, obs, vp))
+        modules = _keys(t.get("modules", {}), f"{where}.modules", MODULE_SLOTS)
+        for slot, provider in modules.items():
+            _choice(provider, f"{where}.modules.{slot}", providers(slot))
+        out.append(Variant(vname, loc, lp, bp, obs, vp, tuple(sorted(modules.items()))))
     return tuple(out), True
 
 

@@ -160,3 +160,28 @@ def test_unknown_names_on_the_command_line_exit_2(tmp_path, capsys):
     assert main(["scenario", "list"]) == 0
     listed = capsys.readouterr().out
     assert all(name in listed for name in builtin_names())
+
+
+def test_a_variant_chooses_the_providers_of_other_modules(tmp_path):
+    """``modules`` sets slots of the cognition frame by name; the home brains run them."""
+    from scenarios.runner import simulate
+
+    text = GOOD.replace('variants = ["mcl", "reset"]\n', "") + (
+        '[variants.grid]\nlocalization = "odometry"\nmodules = { obstacles = "grid", goal = "none" }\n'
+        '[variants.plain]\nlocalization = "odometry"\n'
+    )
+    path = tmp_path / "m.toml"
+    path.write_text(text)
+    s = load(path)
+    config = s.variant("grid").cognition()
+    assert (config.obstacles, config.goal, config.localization) == ("grid", "none", "odometry")
+    assert s.variant("plain").cognition().obstacles == "sectors"
+    _, match = simulate(s, "grid", 0)
+    provider = match.brains[0].provider  # type: ignore[attr-defined]
+    assert type(provider.obstacles).__name__ == "ObstacleGrid" and "goal model" not in provider.stages
+    path.write_text(text.replace('goal = "none"', 'goal = "hough"'))
+    with pytest.raises(ScenarioError, match=r"variants\.grid\.modules\.goal must be one of \['posts', 'none'\]"):
+        load(path)
+    path.write_text(text.replace('goal = "none"', 'localization = "amcl"'))
+    with pytest.raises(ScenarioError, match=r"variants\.grid\.modules: unknown key\(s\) \['localization'\]"):
+        load(path)
