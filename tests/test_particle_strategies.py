@@ -154,3 +154,46 @@ def test_a_new_combination_low_variance_with_amcl_injects_where_plain_lowvar_can
     assert injected_plain == 0 and injected_new > 0
     assert found >= 3, found
     assert MULTINOMIAL != LOW_VARIANCE
+
+
+def _resample_reference(
+    parts: np.ndarray, n: int, w: np.ndarray, m: int, low_variance: bool, jit_xy: float, jit_th: float, m_inj: int,
+    state: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Plain numpy resampling with the kernel's random stream: the draws, one search per draw in
+    the cumulative weights, the jitter (x, y, theta per particle) and the injection slots."""
+    from cognition.localization.kernels import choose_nb, rand_n
+    from cognition.localization.low_variance import low_variance_draws_nb
+
+    cdf = np.cumsum(w[:n])
+    cdf[-1] = 1.0 + 1e-12
+    u = np.empty(m)
+    (low_variance_draws_nb if low_variance else multinomial_draws_nb)(u, m, state)
+    drawn = np.minimum(np.searchsorted(cdf, u, side="left"), n - 1)
+    out = parts[drawn].copy()
+    for k in range(m):
+        out[k, 0] += jit_xy * rand_n(state)
+        out[k, 1] += jit_xy * rand_n(state)
+        out[k, 2] += jit_th * rand_n(state)
+    out[:, 2] = out[:, 2] - 2 * math.pi * np.floor((out[:, 2] + math.pi) / (2 * math.pi))
+    slots = choose_nb(m, m_inj, state) if m_inj else np.zeros(0, np.int64)
+    return out, slots
+
+
+@pytest.mark.parametrize("low_variance", [True, False])
+def test_the_compiled_resampling_equals_a_plain_reference(low_variance: bool) -> None:
+    rng = np.random.default_rng(5)
+    for n, m, m_inj in [(300, 300, 0), (300, 120, 17), (80, 250, 40), (1, 5, 1)]:
+        parts = np.column_stack([rng.uniform(-4.5, 4.5, n), rng.uniform(-3, 3, n), rng.uniform(-math.pi, math.pi, n)])
+        cap = max(n, m)
+        w = np.zeros(cap)
+        w[:n] = rng.dirichlet(np.full(n, 0.3))
+        seed = np.array([int(rng.integers(1, 2**62))], dtype=np.uint64)
+        out, logw, slots, state = np.zeros((cap, 3)), np.full(cap, 7.0), np.zeros(cap, np.int64), seed.copy()
+        weights = w.copy()
+        resample_nb(parts, n, weights, logw, out, m, low_variance, 0.03, 0.05, m_inj, slots, state)
+        ref_state = seed.copy()
+        ref_out, ref_slots = _resample_reference(parts, n, w, m, low_variance, 0.03, 0.05, m_inj, ref_state)
+        assert np.array_equal(out[:m], ref_out) and np.array_equal(slots[:m_inj], ref_slots), (n, m)
+        assert state[0] == ref_state[0]  # the same random numbers, no more, no fewer
+        assert np.all(logw[:m] == 0.0) and np.allclose(weights[:m], 1.0 / m)
