@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, ClassVar, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -178,7 +178,7 @@ class HypothesesModule:
     """``hypotheses``: CMU IV.A's multi-hypothesis ball; its suspicious hypothesis is the gaze target."""
 
     def __init__(self, context: BrainContext, config: CognitionConfig) -> None:
-        self.model = BallHypotheses()
+        self.model = BallHypotheses(config.hypotheses_params)
 
     def run(self, board: Blackboard) -> None:
         board.look_at = self.model.update(board.frame, board.pose, board.teammates or ()).look_at
@@ -201,13 +201,10 @@ class TeamBallModule:
 class ObstacleModule:
     """``obstacles``: the 72-sector model or the occupancy grid (Darmstadt VII)."""
 
-    KINDS: ClassVar[dict[str, type[ObstacleGrid] | type[ObstacleSectors]]] = {
-        "grid": ObstacleGrid,
-        "sectors": ObstacleSectors,
-    }
-
     def __init__(self, context: BrainContext, config: CognitionConfig) -> None:
-        self.model: ObstacleGrid | ObstacleSectors = self.KINDS[config.obstacles]()
+        self.model: ObstacleGrid | ObstacleSectors = (
+            ObstacleGrid(config.obstacle_grid_params) if config.obstacles == "grid" else ObstacleSectors()
+        )
 
     def run(self, board: Blackboard) -> None:
         f = board.frame
@@ -219,7 +216,7 @@ class GoalModule:
 
     def __init__(self, context: BrainContext, config: CognitionConfig) -> None:
         dims = context.field.dims
-        self.model = GoalModel(dims.goal_inner_width + dims.goal_post_diameter)
+        self.model = GoalModel(dims.goal_inner_width + dims.goal_post_diameter, config.goal_params)
         self.dt = 1.0 / context.cognition_hz
 
     def run(self, board: Blackboard) -> None:

@@ -54,7 +54,10 @@ from typing import Any, ClassVar
 from cognition.localization import VARIANTS, LocalizationParams
 from cognition.params import Ranges, check_choice, check_ranges, from_mapping
 from cognition.vision import VisionParams
+from cognition.worldmodel.goal import GoalModelParams
+from cognition.worldmodel.hypotheses import HypothesisParams
 from cognition.worldmodel.kalman_ball import KalmanBallParams
+from cognition.worldmodel.obstacles import ObstacleGridParams
 
 OBSERVATIONS: dict[str, tuple[str, ...]] = {
     "percepts": ("sensor frame", "percepts"),
@@ -122,7 +125,8 @@ FIXED_SLOTS: dict[str, str] = {"input check": "check", "team messages": "message
 
 @dataclass(frozen=True)
 class CognitionConfig:
-    """Which provider fills each slot of a robot's cognition frame, and their parameters.
+    """Which provider fills each slot of a robot's cognition frame, and the modules' parameters
+    (one frozen parameters class per module, DESIGN principle 3).
 
     Every field is checked when the configuration is built: an unknown provider or parameter is
     an error that names it (:func:`from_mapping` for plain mappings). ``vision`` is also the
@@ -146,8 +150,17 @@ class CognitionConfig:
     goal: str = "posts"
     """The goal model from post pairs (CMU IV.B), or ``none``."""
     localization_params: LocalizationParams = field(default_factory=LocalizationParams)
+    """Parameters of the particle filters (:mod:`cognition.localization.params`)."""
     vision_params: VisionParams = field(default_factory=VisionParams)
+    """Parameters of the vision (:mod:`cognition.vision.params`)."""
     ball_params: KalmanBallParams = field(default_factory=KalmanBallParams)
+    """Parameters of the Kalman ball (:mod:`cognition.worldmodel.kalman_ball`)."""
+    hypotheses_params: HypothesisParams = field(default_factory=HypothesisParams)
+    """Parameters of the ball hypotheses (:mod:`cognition.worldmodel.hypotheses`)."""
+    goal_params: GoalModelParams = field(default_factory=GoalModelParams)
+    """Parameters of the goal model (:mod:`cognition.worldmodel.goal`)."""
+    obstacle_grid_params: ObstacleGridParams = field(default_factory=ObstacleGridParams)
+    """Parameters of the ``grid`` obstacle model (:mod:`cognition.worldmodel.obstacles`)."""
 
     RANGES: ClassVar[Ranges] = {}
     """No numeric fields: the providers are names, the parameters are checked by their own classes."""

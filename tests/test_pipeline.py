@@ -166,3 +166,29 @@ def test_providers_are_chosen_from_the_config_file(tmp_path: Path) -> None:
     none = config_from_args(build_parser().parse_args(["match", "--localization", "none"]))
     assert none.cognition is None  # scripted players on the truth
     assert config_from_args(build_parser().parse_args(["match"])).cognition == CognitionConfig()  # the default
+
+
+def test_every_module_takes_its_parameters_from_the_config() -> None:
+    from cognition.localization import LocalizationParams
+    from cognition.worldmodel.goal import GoalModelParams
+    from cognition.worldmodel.hypotheses import HypothesisParams
+    from cognition.worldmodel.kalman_ball import KalmanBallParams
+    from cognition.worldmodel.obstacles import ObstacleGridParams
+
+    config = CognitionConfig.from_mapping(
+        {
+            "localization": "amcl",
+            "obstacles": "grid",
+            "localization_params": {"particles": 77},
+            "ball_params": {"accel_sigma": 0.5},
+            "hypotheses_params": {"decay_per_second": 0.2},
+            "goal_params": {"decay_per_second": 0.3},
+            "obstacle_grid_params": {"extent": 2.0},
+        }
+    )
+    cb = CognitionBeliefs(BrainContext(1, 2, 5, FIELD, 30.0, np.random.default_rng(0)), config)
+    assert cb.localizer is not None and cb.localizer.params == LocalizationParams(particles=77)
+    assert cb.ball_model is not None and cb.ball_model.params == KalmanBallParams(accel_sigma=0.5)
+    assert cb.hypotheses is not None and cb.hypotheses.params == HypothesisParams(decay_per_second=0.2)
+    assert cb.goal_model is not None and cb.goal_model.params == GoalModelParams(decay_per_second=0.3)
+    assert cb.obstacles is not None and cb.obstacles.params == ObstacleGridParams(extent=2.0)  # type: ignore[union-attr]
