@@ -15,6 +15,7 @@ frames; obstacles, the goal and the gaze target are in the robot frame (m).
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Protocol
 
@@ -24,7 +25,7 @@ from cognition.brain import BrainContext
 from cognition.inputs import InputCheck
 from cognition.localization import Localizer, make_localizer
 from cognition.oracle import OracleInput
-from cognition.pipeline import CognitionConfig
+from cognition.pipeline import DECLARATIONS, FIXED_SLOTS, OBSERVATIONS, CognitionConfig, Declaration, providers
 from cognition.representations import BallModel, RobotPose, SensorFrame
 from cognition.vision import Vision
 from cognition.worldmodel.ball import KalmanBallModel
@@ -82,6 +83,55 @@ class Module(Protocol):
     def run(self, board: Blackboard) -> None:
         """Run on the current frame."""
         ...
+
+
+ModuleFactory = Callable[[BrainContext, CognitionConfig], Module]
+"""Builds one robot's module from its context and its cognition configuration."""
+
+MODULES: dict[tuple[str, str], ModuleFactory] = {}
+"""The module factory of every (slot, provider) of :data:`cognition.pipeline.DECLARATIONS`
+(filled by :mod:`cognition.worldmodel.beliefs` for the built-in providers, and by
+:func:`register_provider`)."""
+
+
+def register_provider(
+    slot: str, name: str, factory: ModuleFactory, requires: tuple[str, ...], uses: tuple[str, ...] = ()
+) -> None:
+    """Add the provider ``name`` of ``slot`` (one of the module table's configurable slots): a
+    ``factory(context, config)`` of modules with ``run(board)`` that write the slot's
+    representation, and what they require and use (representation names of the table).
+
+    After this, ``CognitionConfig(**{slot: name})`` plans and runs it like a built-in provider
+    (``stage`` and profile row of the slot). Register in every process that builds brains (a
+    study's workers import the module that registers). A name that exists already is an error.
+    """
+    if slot not in DECLARATIONS or slot in FIXED_SLOTS:
+        raise ValueError(f"register_provider: unknown slot {slot!r}; valid: {list(CognitionConfig.SLOTS)}")
+    if name in providers(slot):
+        raise ValueError(f"register_provider: {slot} already has a provider {name!r}")
+    known = {d.provides for opts in DECLARATIONS.values() for d in opts.values()} | {
+        r for carried in OBSERVATIONS.values() for r in carried
+    } | {"ground truth"}
+    for rep in (*requires, *uses):
+        if rep not in known:
+            raise ValueError(f"register_provider: unknown representation {rep!r}; valid: {sorted(known)}")
+    if not callable(factory):
+        raise TypeError(f"register_provider: factory must be callable, got {factory!r}")
+    first = next(iter(DECLARATIONS[slot].values()))
+    DECLARATIONS[slot][name] = Declaration(first.stage, tuple(requires), first.provides, tuple(uses))
+    MODULES[(slot, name)] = factory
+
+
+def unregister_provider(slot: str, name: str) -> None:
+    """Remove a provider added by :func:`register_provider` (built-in providers stay)."""
+    if (slot, name) in _BUILT_IN:
+        raise ValueError(f"unregister_provider: {slot}={name!r} is built in")
+    DECLARATIONS.get(slot, {}).pop(name, None)
+    MODULES.pop((slot, name), None)
+
+
+_BUILT_IN = frozenset((slot, name) for slot, opts in DECLARATIONS.items() for name in opts)
+"""Every (slot, provider) of the module table as shipped."""
 
 
 class InputCheckModule:

@@ -73,7 +73,7 @@ def test_every_plan_satisfies_its_declarations_or_is_refused(
 
 
 def test_every_declared_provider_has_a_module_and_builds() -> None:
-    assert tuple(MODULES) == tuple(DECLARATIONS)
+    assert set(MODULES) == {(slot, name) for slot, opts in DECLARATIONS.items() for name in opts}
     context = BrainContext(1, 2, 5, FIELD, 30.0, np.random.default_rng(0), observation="images")
     for config in _configs():
         cb = CognitionBeliefs(context, config)
@@ -192,3 +192,35 @@ def test_every_module_takes_its_parameters_from_the_config() -> None:
     assert cb.hypotheses is not None and cb.hypotheses.params == HypothesisParams(decay_per_second=0.2)
     assert cb.goal_model is not None and cb.goal_model.params == GoalModelParams(decay_per_second=0.3)
     assert cb.obstacles is not None and cb.obstacles.params == ObstacleGridParams(extent=2.0)  # type: ignore[union-attr]
+
+
+def test_a_registered_provider_is_chosen_by_name_and_runs_in_its_slot() -> None:
+    from cognition.modules import BallModule, register_provider, unregister_provider
+
+    runs: list[int] = []
+
+    class CountingBall(BallModule):  # a team's own ball filter would go here
+        def run(self, board):  # type: ignore[no-untyped-def]
+            runs.append(1)
+            super().run(board)
+
+    with pytest.raises(ValueError, match=r"unknown CognitionConfig.ball|must be one of \['kalman'\], got 'counting'"):
+        CognitionConfig(ball="counting")
+    register_provider("ball", "counting", CountingBall, requires=("odometry", "robot pose"), uses=("percepts",))
+    try:
+        config = CognitionConfig(ball="counting")
+        assert [d.stage for d in plan(config)] == [d.stage for d in plan(CognitionConfig())]  # same slot, same row
+        m = Match(MatchConfig(players_per_team=1, cognition=config, referee=SHORT))
+        m.run(until=2.0)
+        assert len(runs) == m.frames * 2 and m.summary().localization is not None
+        with pytest.raises(ValueError, match=r"ball already has a provider 'counting'"):
+            register_provider("ball", "counting", CountingBall, requires=())
+        with pytest.raises(ValueError, match=r"unknown representation 'sonar'"):
+            register_provider("ball", "sonar", CountingBall, requires=("sonar",))
+        with pytest.raises(ValueError, match=r"unknown slot 'input check'"):
+            register_provider("input check", "mine", CountingBall, requires=())
+        with pytest.raises(ValueError, match=r"ball='kalman' is built in"):
+            unregister_provider("ball", "kalman")
+    finally:
+        unregister_provider("ball", "counting")
+    assert "counting" not in providers("ball")

@@ -33,7 +33,6 @@ frame** (m, +x forward, +y left).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Literal, TypeVar
 
@@ -46,6 +45,7 @@ from cognition.geometry import wrap_angle
 from cognition.inputs import merge_counts
 from cognition.localization import Localizer
 from cognition.modules import (
+    MODULES,
     BallModule,
     Blackboard,
     GoalModule,
@@ -53,6 +53,7 @@ from cognition.modules import (
     InputCheckModule,
     LocalizationModule,
     Module,
+    ModuleFactory,
     ObstacleModule,
     TeamBallModule,
     TeamMessagesModule,
@@ -198,7 +199,10 @@ class CognitionBeliefs:
         planned = plan(self.config, context.observation)
         self.stages: tuple[str, ...] = tuple(d.stage for d in planned)
         """The modules of one frame, in the order they run."""
-        self.modules: dict[str, Module] = {d.stage: MODULES[_SLOT_OF[d.stage]](context, self.config) for d in planned}
+        self.modules: dict[str, Module] = {}
+        for d in planned:
+            slot = _SLOT_OF[d.stage]
+            self.modules[d.stage] = MODULES[(slot, self.config.provider(slot))](context, self.config)
         """Every module of the frame by stage name."""
         self.board = Blackboard()
         """The representations of the current frame."""
@@ -412,12 +416,7 @@ def _clip(v: float, limit: float) -> float:
     return max(-limit, min(limit, float(v)))
 
 
-def _beliefs_module(context: BrainContext, config: CognitionConfig) -> Module:
-    """The provider of the ``beliefs`` slot the configuration names."""
-    return TruthModule(context, config) if config.beliefs == "truth" else BeliefsModule(context, config)
-
-
-MODULES: dict[str, Callable[[BrainContext, CognitionConfig], Module]] = {
+_CLASSES: dict[str, ModuleFactory] = {
     "input check": InputCheckModule,
     "vision": VisionModule,
     "localization": LocalizationModule,
@@ -427,11 +426,12 @@ MODULES: dict[str, Callable[[BrainContext, CognitionConfig], Module]] = {
     "team_ball": TeamBallModule,
     "obstacles": ObstacleModule,
     "goal": GoalModule,
-    "beliefs": _beliefs_module,
 }
-"""The module class of every slot of :data:`cognition.pipeline.DECLARATIONS` (each builds the
-provider its configuration names)."""
-assert tuple(MODULES) == tuple(DECLARATIONS)
+"""The class of every built-in slot but ``beliefs`` (each builds the provider its configuration names)."""
+MODULES.update({(slot, name): cls for slot, cls in _CLASSES.items() for name in DECLARATIONS[slot]})
+MODULES[("beliefs", "cognition")] = BeliefsModule
+MODULES[("beliefs", "truth")] = TruthModule
+assert set(MODULES) == {(slot, name) for slot, opts in DECLARATIONS.items() for name in opts}
 
 _SLOT_OF: dict[str, str] = {d.stage: slot for slot, opts in DECLARATIONS.items() for d in opts.values()}
 """The slot of every stage name."""
