@@ -109,9 +109,11 @@ def register_provider(
         raise ValueError(f"register_provider: unknown slot {slot!r}; valid: {list(CognitionConfig.SLOTS)}")
     if name in providers(slot):
         raise ValueError(f"register_provider: {slot} already has a provider {name!r}")
-    known = {d.provides for opts in DECLARATIONS.values() for d in opts.values()} | {
-        r for carried in OBSERVATIONS.values() for r in carried
-    } | {"ground truth"}
+    known = (
+        {d.provides for opts in DECLARATIONS.values() for d in opts.values()}
+        | {r for carried in OBSERVATIONS.values() for r in carried}
+        | {"ground truth"}
+    )
     for rep in (*requires, *uses):
         if rep not in known:
             raise ValueError(f"register_provider: unknown representation {rep!r}; valid: {sorted(known)}")

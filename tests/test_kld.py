@@ -76,3 +76,19 @@ def test_a_filter_shrinks_when_it_knows_where_it_is_and_grows_when_it_does_not()
     pf.w[: pf.n] = 1.0 / pf.n
     n_lost = kld_count(pf.parts, pf.w, pf.n, 60, 300, p.kld_epsilon, p.kld_z, p.kld_bin_xy, p.kld_bin_theta)
     assert n_known < 100 and n_lost == 300
+
+
+def test_a_search_keeps_every_particle_and_tracking_shrinks() -> None:
+    """KLD counts only while tracking: lost (or injecting, or relocalizing) the filter resamples
+    at the full count, so that fresh poses have room."""
+    from cognition.localization.sensor import NO_OBSERVATIONS
+
+    params = LocalizationParams(kld=True, placement_sigma_theta=0.03)
+    pf = ParticleFilter("lowvar", FIELD, params, np.random.default_rng(4))
+    pf.set_particles_around(np.array([[1.0, 0.5, 0.0]]), sigma_xy=0.05)
+    pf._resample(NO_OBSERVATIONS, 1.0, 1.0, False, None)  # type: ignore[arg-type]
+    tracking = pf.n
+    pf._resample(NO_OBSERVATIONS, 1.0, 1.0, True, None)  # type: ignore[arg-type]
+    assert tracking < 100 and pf.n == params.particles
+    pf._resample(NO_OBSERVATIONS, 1.0, 1.0, False, None)  # type: ignore[arg-type]
+    assert pf.n < 100  # tracking again: the count shrinks back

@@ -55,9 +55,10 @@ min_particles              150             [1, 100000]    the adaptive count nev
                                                           rule that fewer particles are drawn as the weights
                                                           grow (with a floor of 50, 3% of match frames were off
                                                           by > 3 m: too few particles to keep the right mode)
-kld                        False           true/false     KLD-sampling (Fox 2003, :mod:`.kld`): every resampling
-                                                          draws as many particles as the posterior's spread needs
-                                                          (replaces the variant's count)
+kld                        False           true/false     KLD-sampling (Fox 2003, :mod:`.kld`): while tracking, a
+                                                          resampling draws as many particles as the posterior's
+                                                          spread needs (replaces the variant's count); lost,
+                                                          injecting or relocalizing, it draws them all
 kld_epsilon                0.1             (0, 1]         the bound on the Kullback-Leibler distance
 kld_z                      2.326           (0, 10]        upper quantile of the standard normal (delta 0.01)
 kld_bin_xy                 0.25 m          (0, 10]        KLD bin size in x and y

@@ -395,12 +395,15 @@ class ParticleFilter(Localizer):
         inj = self.injection
         n_old = self.n
         n_new = inj.count(n_old, w_avg)
-        if p.kld:
-            lo = min(p.kld_min_particles, p.particles)
-            n_new = kld_count(
-                self.parts, self.w, n_old, lo, p.particles, p.kld_epsilon, p.kld_z, p.kld_bin_xy, p.kld_bin_theta
-            )
         share = inj.share(w_raw, lost)
+        if p.kld:  # KLD while tracking; a search (lost, injecting, the safety net) gets every particle
+            if lost or share > 0.0 or self._relocalize:
+                n_new = p.particles
+            else:
+                lo = min(p.kld_min_particles, p.particles)
+                n_new = kld_count(
+                    self.parts, self.w, n_old, lo, p.particles, p.kld_epsilon, p.kld_z, p.kld_bin_xy, p.kld_bin_theta
+                )
         m_inj = int(self.rng.binomial(n_new, share)) if share > 0.0 else 0
         resample_nb(
             self.parts, n_old, self.w, self.logw, self._spare, n_new, self.resampling.low_variance,
