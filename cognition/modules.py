@@ -17,7 +17,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Protocol
+from typing import Protocol
 
 import numpy as np
 
@@ -33,10 +33,8 @@ from cognition.worldmodel.goal import GoalEstimate, GoalModel
 from cognition.worldmodel.hypotheses import BallHypotheses
 from cognition.worldmodel.messages import TeamMessage
 from cognition.worldmodel.obstacles import ObstacleGrid, ObstacleModel, ObstacleSectors
+from cognition.worldmodel.representations import Beliefs
 from cognition.worldmodel.team import TeamBallEstimate, TeamState, carpet_limits, team_ball
-
-if TYPE_CHECKING:
-    from cognition.worldmodel.beliefs import Beliefs
 
 
 @dataclass(eq=False, slots=True)
@@ -69,7 +67,7 @@ class Blackboard:
     goal: GoalEstimate | None = None
     """``goal``: the goal of the latest head scans (robot frame)."""
     beliefs: Beliefs | None = None
-    """``beliefs``: everything a behaviour reads (:class:`~cognition.worldmodel.beliefs.Beliefs`)."""
+    """``beliefs``: everything a behaviour reads (:class:`~cognition.worldmodel.representations.Beliefs`)."""
 
     def start(self, frame: SensorFrame, ground_truth: OracleInput | None) -> None:
         """Begin a frame: the new inputs; every provided representation is rewritten by its module."""

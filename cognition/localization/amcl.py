@@ -13,16 +13,11 @@ particle maturing (:mod:`.maturing`) size their injections by the same rule.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.localization.strategy import Injection
+from cognition.localization.strategy import FilterView, Injection
 from cognition.representations import RobotPose
-
-if TYPE_CHECKING:
-    from cognition.localization.particle_filter import ParticleFilter
 
 
 def augmented_share(w_slow: float, w_fast: float, injection_max: float) -> float:
@@ -44,6 +39,6 @@ class AMCLInjection(Injection):
         self.w_fast += p.alpha_fast * (w_raw - self.w_fast)
         return augmented_share(self.w_slow, self.w_fast, p.injection_max)
 
-    def inject(self, pf: ParticleFilter, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
+    def inject(self, pf: FilterView, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
         pf.parts[slots] = pf.uniform_poses(slots.shape[0])
         return int(slots.shape[0])

@@ -23,7 +23,6 @@ team frame, m and rad; C ages in frames), the first ``nc`` rows in use.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numba as nb
 import numpy as np
@@ -34,10 +33,8 @@ from cognition.localization.amcl import AMCLInjection
 from cognition.localization.params import LocalizationParams
 from cognition.localization.resetting import _from_vision_nb, resetting_share
 from cognition.localization.sensor import O, T
+from cognition.localization.strategy import FilterView
 from cognition.representations import RobotPose
-
-if TYPE_CHECKING:
-    from cognition.localization.particle_filter import ParticleFilter
 
 _CONF, _FLOOR, _TYPE = int(O.CONF), int(O.FLOOR), int(O.TYPE)
 _LINE = int(T.LINE)
@@ -156,7 +153,7 @@ class Maturing(AMCLInjection):
         """Consistent frames with a landmark of each candidate."""
         self.nc = 0
 
-    def observe(self, pf: ParticleFilter, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
+    def observe(self, pf: FilterView, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
         """Move the candidates by the odometry and, on a frame with observations, score, drop
         and refill them (:func:`mature_nb`)."""
         if obs.shape[0]:
@@ -170,7 +167,7 @@ class Maturing(AMCLInjection):
     def share(self, w_raw: float, lost: bool) -> float:
         return resetting_share(super().share(w_raw, lost), lost, self.params.reset_probability)
 
-    def inject(self, pf: ParticleFilter, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
+    def inject(self, pf: FilterView, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
         threshold = self.params.maturing_threshold
         got = int(inject_matured_nb(pf.parts, slots, self.cand, self.ages, self.nc, threshold, pf.kernel_state))
         if got:

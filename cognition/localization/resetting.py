@@ -30,7 +30,6 @@ where the Python loop over samples cost hundreds of microseconds per frame, and 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numba as nb
 import numpy as np
@@ -40,10 +39,8 @@ from cognition.localization.amcl import AMCLInjection
 from cognition.localization.fieldmodel import FieldModel
 from cognition.localization.kernels import rand_index, rand_n, rand_u
 from cognition.localization.sensor import O, T
+from cognition.localization.strategy import FilterView
 from cognition.representations import RobotPose
-
-if TYPE_CHECKING:
-    from cognition.localization.particle_filter import ParticleFilter
 
 _POST, _CROSS, _LINE, _CIRCLE, _MARK, _POLE = (
     int(T.POST),
@@ -257,7 +254,7 @@ class SensorResetting(AMCLInjection):
     def share(self, w_raw: float, lost: bool) -> float:
         return resetting_share(super().share(w_raw, lost), lost, self.params.reset_probability)
 
-    def inject(self, pf: ParticleFilter, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
+    def inject(self, pf: FilterView, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
         p = self.params
         fresh = from_vision(pf.model, obs, slots.shape[0], p.reset_from_any_feature, pf.kernel_state)
         got = int(fresh.shape[0])

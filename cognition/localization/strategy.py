@@ -28,16 +28,43 @@ averages, the maturing candidates). All poses are (x m, y m, theta rad) in the t
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
+from cognition.localization.fieldmodel import FieldModel
 from cognition.localization.params import LocalizationParams
 from cognition.representations import RobotPose
 
-if TYPE_CHECKING:  # the filter hands itself to its strategies
-    from cognition.localization.particle_filter import ParticleFilter
+
+class FilterView(Protocol):
+    """What a strategy may use of the particle filter that hands itself in (the filter,
+    :class:`~cognition.localization.particle_filter.ParticleFilter`, provides it): its particles,
+    map, compiled work space and random state. Poses are (x m, y m, theta rad), team frame."""
+
+    parts: NDArray[np.float64]
+    """The particles (capacity x 3; the first ``n`` in use)."""
+    model: FieldModel
+    """The field map in the kernels' arrays."""
+    maps: tuple[NDArray[np.float64], ...]
+    """The map arrays the compiled sensor model takes (posts, crossings, lines, marks, poles, grids, geometry)."""
+    hough_params: NDArray[np.float64]
+    """The Hough line model's parameters."""
+    ll_buffer: NDArray[np.float64]
+    """Log-likelihood work space."""
+    scratch: NDArray[np.float64]
+    """Sensor-model work space."""
+    kernel_state: NDArray[np.uint64]
+    """The xorshift64* state every compiled step draws from."""
+
+    def uniform_poses(self, m: int) -> NDArray[np.float64]:
+        """``m`` poses uniform over the field (or the own half while the game says so)."""
+        ...
+
+    def away_from_mirror(self, fresh: NDArray[np.float64], pose: RobotPose) -> NDArray[np.float64]:
+        """``fresh`` with every pose near the estimate's mirror image mirrored onto it."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -72,7 +99,7 @@ class Injection:
         evidence with the floors ``w_avg`` (default: keep ``n``)."""
         return n
 
-    def observe(self, pf: ParticleFilter, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
+    def observe(self, pf: FilterView, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
         """Called once per frame after the observation update, with the frame's packed
         observations (K x N_O, possibly K = 0) and odometry (m, m, rad, robot frame)."""
 
@@ -81,7 +108,7 @@ class Injection:
         per-observation evidence without the floors and whether the pose is lost."""
         return 0.0
 
-    def inject(self, pf: ParticleFilter, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
+    def inject(self, pf: FilterView, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
         """Write fresh poses into ``pf.parts[slots]`` (the slots the resampling chose) and return
         how many were written (from the first slot on; 0: none)."""
         return 0
