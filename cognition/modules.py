@@ -4,9 +4,10 @@ Each class here is one provider of :mod:`cognition.pipeline`'s module table: it 
 of the world model, localization or vision, reads the representations its declaration requires
 and uses from the :class:`Blackboard`, and writes the one it provides. ``run(board)`` is the
 whole per-frame interface; everything a module keeps between frames is its own. The
-``beliefs`` providers (assembling :class:`~cognition.worldmodel.beliefs.Beliefs`, or reading
-the ground truth) live in :mod:`cognition.worldmodel.beliefs`; :data:`MODULES` there maps every
-(slot, provider) of the table to its class.
+``beliefs`` providers (assembling :class:`~cognition.worldmodel.representations.Beliefs`, or
+reading the ground truth) live in :mod:`cognition.worldmodel.beliefs`, which also enters every
+built-in class into :data:`MODULES`, the factory of each (slot, provider) of the table;
+:func:`register_provider` adds a team's own.
 
 Frames: the robot pose and the team ball are in the team frame (m, rad); the ball carries both
 frames; obstacles, the goal and the gaze target are in the robot frame (m).
