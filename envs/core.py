@@ -123,6 +123,10 @@ class EnvConfig:
     render_path: str = "soccer_v0.mp4"
     percepts: str = "default"
     images: str = "default"
+    cognition: Mapping[str, Any] | None = None
+    """More of the robots' cognition frame outside ``truth`` mode: a ``CognitionConfig`` mapping of
+    the other slots' providers and the modules' parameters (``localization`` and ``obstacle_model``
+    have their own keys)."""
 
     RANGES: ClassVar[Ranges] = {
         "players_per_team": Range(1, MAX_PLAYERS_PER_TEAM),
@@ -156,6 +160,24 @@ class EnvConfig:
                 f"({self.decision_hz})"
             )
         object.__setattr__(self, "reward_weights", RewardWeights.from_any(self.reward_weights))
+        if self.cognition is not None:
+            if not isinstance(self.cognition, Mapping):
+                raise TypeError(
+                    f"EnvConfig.cognition must be a mapping of CognitionConfig keys, got {self.cognition!r}"
+                )
+            own = {"localization": "localization", "obstacles": "obstacle_model", "beliefs": "observation='truth'"}
+            for key, instead in own.items():
+                if key in self.cognition:
+                    raise ValueError(f"EnvConfig.cognition: set {key!r} with the environment's {instead} instead")
+            object.__setattr__(self, "cognition", dict(self.cognition))
+        self.cognition_config()  # an unknown provider or parameter fails here, naming it
+
+    def cognition_config(self) -> CognitionConfig:
+        """The cognition frame of every robot outside ``truth`` mode."""
+        extra = dict(self.cognition or {})
+        return CognitionConfig.from_mapping(
+            {"localization": self.localization, "obstacles": self.obstacle_model, **extra}, "EnvConfig.cognition"
+        )
 
     @property
     def frames_per_decision(self) -> int:
@@ -288,7 +310,7 @@ class SoccerCore:
         """The cognition frame of every brain: the oracle providers, or the stack with the
         configured localization and obstacle model."""
         c = self.config
-        return TRUTH if truth else CognitionConfig(localization=c.localization, obstacles=c.obstacle_model)
+        return TRUTH if truth else c.cognition_config()
 
     def observations(self) -> dict[str, NDArray[np.float32]]:
         """Every agent's observation now."""

@@ -55,6 +55,7 @@ on. A finished agent's AEC step takes ``None``; anything else is a ``ValueError`
 | ``render_path`` | ``soccer_v0.mp4`` | video file of ``human`` mode (``.mp4`` or ``.gif``) |
 | ``percepts`` | ``default`` | percept noise preset (``ideal``, ``default``, ``harsh``) |
 | ``images`` | ``default`` | image-effects preset in ``images`` mode (``ideal``, ``default``, ``harsh``) |
+| ``cognition`` | None | the other modules of the robots' cognition frame outside ``truth`` mode, by name, and their parameters: a mapping of :class:`cognition.pipeline.CognitionConfig` keys, e.g. ``{"goal": "none", "hypotheses": "none"}`` (fewer modules, faster steps) |
 
 ## Version history
 

@@ -338,3 +338,22 @@ def test_images_observation_runs_vision_on_rendered_pixels() -> None:
     vision = brain.provider.vision
     assert vision is not None and vision.debug is not None
     assert m.localization_errors.summary().position_error_mean < 0.5
+
+
+def test_the_cognition_frame_of_an_env_is_chosen_by_name() -> None:
+    """``cognition`` names the other modules of every robot's frame; the env's own keys stay its own."""
+    from envs.core import EnvConfig
+
+    env = soccer_v0.parallel_env(players_per_team=2, cognition={"goal": "none", "hypotheses": "none"})
+    env.reset(seed=1)
+    for _ in range(3):
+        env.step({a: env.action_space(a).sample() for a in env.agents})
+    stages = {b.provider.stages for b in env.core.match.brains}  # type: ignore[attr-defined]
+    assert all("goal model" not in s and "ball hypotheses" not in s and "localization" in s for s in stages)
+    assert all(b.beliefs is None or b.beliefs.goal is None for b in env.core.policies.values())
+    with pytest.raises(ValueError, match=r"set 'localization' with the environment's localization"):
+        EnvConfig(cognition={"localization": "amcl"})
+    with pytest.raises(ValueError, match=r"EnvConfig.cognition.goal must be one of \['posts', 'none'\], got 'x'"):
+        EnvConfig(cognition={"goal": "x"})
+    with pytest.raises(ValueError, match=r"unknown EnvConfig.cognition.goal_params key\(s\) \['y'\]"):
+        EnvConfig(cognition={"goal_params": {"y": 1}})
