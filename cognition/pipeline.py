@@ -205,7 +205,7 @@ class CognitionConfig:
 
 
 def providers(slot: str) -> tuple[str, ...]:
-    """The provider names of ``slot``, the default first (``none`` last for optional slots)."""
+    """The provider names of ``slot`` in the order of :data:`DECLARATIONS` (``none`` last for optional slots)."""
     names = tuple(DECLARATIONS[slot])
     return (*names, "none") if slot in OPTIONAL_SLOTS else names
 

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 from cognition.camera import CameraRig
 from cognition.field import FIELD_PRESETS, Field
 from cognition.representations import RobotPose
-from cognition.worldmodel.beliefs import Beliefs
+from cognition.worldmodel.representations import Beliefs
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer, draw_annotations, save_png
 from teamsim.match import Match
@@ -100,7 +100,7 @@ def belief_overlay(match: Match, team: int, number: int) -> Belief | None:
     """The robot's latest pose estimate and particles, ball, team ball, obstacles and goal,
     converted from its team (or robot) frame to the world frame.
 
-    Reads the brain's ``beliefs`` (:class:`~cognition.worldmodel.beliefs.Beliefs`) when it has
+    Reads the brain's ``beliefs`` (:class:`~cognition.worldmodel.representations.Beliefs`) when it has
     them; a brain without beliefs (or before its first frame) but with a ``pose``
     :class:`~cognition.representations.RobotPose` gets only the pose and particles drawn.
     ``None`` when the robot's brain has neither.

@@ -64,8 +64,7 @@ from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS
-from cognition.localization import VARIANTS
-from cognition.worldmodel import OBSTACLE_MODELS
+from cognition.pipeline import providers
 from teamsim.brains import default_brains
 from teamsim.cli_gc import add_gc_arguments, bridge_params, warn
 from teamsim.cli_types import integer as _integer
@@ -139,7 +138,7 @@ def _match_parser(sub: Any) -> None:
     _common_args(p)
     p.add_argument(
         "--localization",
-        choices=[*VARIANTS, "none"],
+        choices=[*providers("localization"), "none"],
         default=None,
         help="localization variant the players run and act on (default: maturing with percepts; 'none': "
         "the players read the truth)",
@@ -154,7 +153,7 @@ def _match_parser(sub: Any) -> None:
     p.add_argument("--opponents", choices=list(PLAYERS), default=None, help="brains of the away team")
     p.add_argument(
         "--obstacles",
-        choices=list(OBSTACLE_MODELS),
+        choices=[p for p in providers("obstacles") if p != "none"],
         default=None,
         help="obstacle model of the players' world model (default: sectors)",
     )
