@@ -16,8 +16,10 @@ figure                              meaning
 striker_truth_steps_per_s           ``teamsim/Striker-v0`` steps per second (truth, discrete)
 ==================================  ==========================================================
 
-``mode`` is ``truth`` or ``percepts``; ``images`` is refused by the environments until the
-vision pipeline exists.
+``mode`` is ``truth``, ``percepts`` (the default cognition frame) or ``percepts_lean``: the
+same with the env's ``cognition`` argument leaving out the optional modules (:data:`LEAN`:
+ball hypotheses, team ball, obstacles, goal model), the speed a policy that needs none of them
+can train at. ``images`` is not timed here (``bench_vision`` times the pixel path).
 
 Usage: ``python -m benchmarks.bench_envs [--steps 300] [--passes 3] [--json out/bench_envs.json]``
 """
@@ -34,12 +36,19 @@ import envs  # noqa: F401  (registers the Gymnasium ids)
 from benchmarks.common import write_figures
 from envs import soccer_v0
 
+LEAN = {"hypotheses": "none", "team_ball": "none", "goal": "none"}
+"""With ``obstacle_model="none"``, the ``percepts_lean`` cognition frame: localization, the
+Kalman ball, the teammates' messages and the beliefs only."""
 
-def bench_soccer(observation: str, cognition_hz: float, steps: int, passes: int) -> float:
+
+def bench_soccer(
+    observation: str, cognition_hz: float, steps: int, passes: int, cognition: dict[str, str] | None = None
+) -> float:
     """Best parallel steps per second over ``passes`` runs (5 v 5, both teams controlled)."""
     env = soccer_v0.parallel_env(
         players_per_team=5, control="both", observation=observation, cognition_hz=cognition_hz,
-        start="playing", max_cycles=10**9,
+        start="playing", max_cycles=10**9, cognition=cognition,
+        obstacle_model="sectors" if cognition is None else "none",
     )  # fmt: skip
     space = env.action_space("home_1")
     space.seed(0)
@@ -82,14 +91,16 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         ("truth", 30.0, args.steps),
         ("truth", 10.0, args.steps),
         ("percepts", 30.0, args.steps // 3),
+        ("percepts_lean", 30.0, args.steps // 3),
     ):
-        per_s = bench_soccer(mode, hz, max(10, steps), args.passes)
+        lean = mode == "percepts_lean"
+        per_s = bench_soccer("percepts" if lean else mode, hz, max(10, steps), args.passes, LEAN if lean else None)
         key = f"{mode}_c{int(hz)}"
         figures[f"{key}_parallel_steps_per_s"] = per_s
         figures[f"{key}_agent_steps_per_s"] = 10.0 * per_s
         figures[f"{key}_real_time_factor"] = per_s / 10.0
         print(
-            f"soccer_v0 5v5 {mode:8s} cognition {int(hz):2d} Hz: {per_s:7.0f} parallel steps/s, "
+            f"soccer_v0 5v5 {mode:13s} cognition {int(hz):2d} Hz: {per_s:7.0f} parallel steps/s, "
             f"{10 * per_s:7.0f} agent steps/s (budget 3,000 in truth mode), {per_s / 10:5.1f}x real time"
         )
     figures["striker_truth_steps_per_s"] = bench_striker(args.steps * 2, args.passes)

@@ -50,7 +50,7 @@ from cognition.brain import Brain
 from cognition.field import make_colour_scheme
 from cognition.gamestate import GameStateId, SetPlay
 from cognition.localization import VARIANTS
-from cognition.pipeline import TRUTH, CognitionConfig
+from cognition.pipeline import TRUTH, CognitionConfig, providers
 from cognition.positions import kickoff_position
 from cognition.worldmodel.beliefs import CognitionBeliefs
 from teamsim.match import MAX_PLAYERS_PER_TEAM, Match, MatchConfig
@@ -141,7 +141,7 @@ class EnvConfig:
             ("control", self.control, CONTROL),
             ("observation", self.observation, OBSERVATION_MODES),
             ("localization", self.localization, VARIANTS),
-            ("obstacle_model", self.obstacle_model, ("sectors", "grid")),
+            ("obstacle_model", self.obstacle_model, providers("obstacles")),
             ("action_type", self.action_type, ACTION_TYPES),
             ("start", self.start, STARTS),
             ("opponents", self.opponents, OPPONENTS),

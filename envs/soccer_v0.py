@@ -42,7 +42,7 @@ on. A finished agent's AEC step takes ``None``; anything else is a ``ValueError`
 | ``control`` | ``home`` | agents: ``home``, ``away`` or ``both`` teams |
 | ``observation`` | ``percepts`` | ``percepts`` (synthesized percepts), ``images`` (rendered camera images through each robot's vision, :mod:`cognition.vision`) or ``truth`` |
 | ``localization`` | ``maturing`` | localization variant in ``percepts`` mode (``cognition.localization.VARIANTS``) |
-| ``obstacle_model`` | ``sectors`` | world-model obstacle variant (``sectors`` or ``grid``) |
+| ``obstacle_model`` | ``sectors`` | world-model obstacle variant (``sectors``, ``grid`` or ``none``) |
 | ``action_type`` | ``continuous`` | ``continuous`` or ``discrete`` |
 | ``decision_hz`` | 10 | decisions per simulated second, in (0, 1000] |
 | ``cognition_hz`` | None | cognition frames per second, in (0, 1000] and a whole multiple of ``decision_hz``; None: 30 with ``percepts`` (the filters' rate), ``decision_hz`` with ``truth`` |
