@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 
 from cognition.brain import Brain
+from cognition.pipeline import CognitionConfig
 from cognition.worldmodel.beliefs import CognitionBeliefs
-from cognition.worldmodel.kalman_ball import KalmanBallParams
 from scenarios.metrics import event_rows, run_row
 from scenarios.observer import Observer
 from scenarios.spec import Scenario, Team, Variant
@@ -56,10 +56,10 @@ def _brain(team: Team, index: int, number: int, variant: Variant, scenario: Scen
         return random_brains(index, number)
     if team.brain == "truth":
         return scripted_brains(None)(index, number)
-    home = variant.cognition()  # the away team sees with the same vision, localizes with its own variant
+    home = variant.cognition()
     cognition = home
-    if index != 0:
-        cognition = dataclasses.replace(home, localization=team.variant, ball_params=KalmanBallParams())
+    if index != 0:  # the away team sees with the same vision; every other module and parameter is its own default
+        cognition = CognitionConfig(localization=team.variant, vision=home.vision, vision_params=home.vision_params)
     lp = dataclasses.replace(cognition.localization_params, return_rule=rules)
     cognition = dataclasses.replace(cognition, localization_params=lp)
     if team.brain == "scripted":

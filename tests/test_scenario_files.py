@@ -179,6 +179,8 @@ def test_a_variant_chooses_the_providers_of_other_modules(tmp_path):
     _, match = simulate(s, "grid", 0)
     provider = match.brains[0].provider  # type: ignore[attr-defined]
     assert type(provider.obstacles).__name__ == "ObstacleGrid" and "goal model" not in provider.stages
+    away = match.brains[-1].provider  # type: ignore[attr-defined]
+    assert type(away.obstacles).__name__ == "ObstacleSectors" and "goal model" in away.stages  # its own defaults
     path.write_text(text.replace('goal = "none"', 'goal = "hough"'))
     with pytest.raises(ScenarioError, match=r"variants\.grid\.modules\.goal must be one of \['posts', 'none'\]"):
         load(path)
