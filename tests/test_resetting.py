@@ -256,7 +256,7 @@ def test_maturing_matches_the_plain_reference_over_a_walk(model: FieldModel) -> 
     cand, count, nc = np.zeros((cap, 3)), np.zeros(cap, dtype=np.int64), 0
     rc, rn = np.zeros((0, 3)), np.zeros(0, dtype=np.int64)
     s1, s2 = np.array([99], dtype=np.uint64), np.array([99], dtype=np.uint64)
-    ll, scratch = np.zeros(cap), np.zeros((10, cap))
+    ll, scratch = np.zeros(cap), np.zeros((6, cap))
     oldest = 0
     x, y, th = -2.0, 1.0, 0.3
     for frame in range(90):

@@ -79,7 +79,7 @@ def mature_nb(
     ``cand`` (C x 3) and ``count`` (C) are the buffers, ``obs`` the frame's observation rows
     (K >= 1, :class:`~cognition.localization.sensor.O`), the map arrays those of
     :class:`~cognition.localization.fieldmodel.FieldModel`; ``ll`` (>= C) and ``scratch``
-    (10 x >= C) are work space, ``state`` the filter's xorshift64* state.
+    (6 x >= C) are work space, ``state`` the filter's xorshift64* state.
     """
     move_candidates_nb(cand, nc, dx, dy, dth)
     k = obs.shape[0]

@@ -211,7 +211,7 @@ class ParticleFilter(Localizer):
         self.w = np.full(cap, 1.0 / cap)
         self.ll_buffer = np.zeros(max(cap, p.maturing_candidates))
         """Log-likelihood work space of the compiled sensor update (particles or candidates)."""
-        self.scratch = np.zeros((10, max(cap, p.maturing_candidates)))
+        self.scratch = np.zeros((6, max(cap, p.maturing_candidates)))
         """Work space of the compiled sensor update (:func:`kernels.log_likelihood_nb`)."""
         self._pose_out = np.zeros(14)
         self._cov = self._pose_out[5:14].reshape(3, 3)
