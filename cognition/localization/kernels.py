@@ -356,20 +356,20 @@ def normalise_nb(logw, n, w):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def _cluster_nb(parts, n, w, seed, r2):  # pragma: no cover - compiled
+def _cluster_nb(px, py, cth, sth, n, w, seed, r2):  # pragma: no cover - compiled
     """Weight and weighted sums (x, y, cos theta, sin theta) of the particles within sqrt(``r2``)
-    m of particle ``seed``."""
-    sx, sy = parts[seed, 0], parts[seed, 1]
+    m of particle ``seed``; ``px``, ``py``, ``cth``, ``sth``: the particles' x, y, cos theta
+    and sin theta (contiguous). A particle outside adds zeros, so the loop has no branch."""
+    sx, sy = px[seed], py[seed]
     cw = mx = my = mc = ms = 0.0
     for i in range(n):
-        ex, ey = parts[i, 0] - sx, parts[i, 1] - sy
-        if ex * ex + ey * ey <= r2:
-            cw += w[i]
-            mx += w[i] * parts[i, 0]
-            my += w[i] * parts[i, 1]
-            sn, cs = fast_sincos(parts[i, 2])
-            mc += w[i] * cs
-            ms += w[i] * sn
+        ex, ey = px[i] - sx, py[i] - sy
+        wi = w[i] if ex * ex + ey * ey <= r2 else 0.0
+        cw += wi
+        mx += wi * px[i]
+        my += wi * py[i]
+        mc += wi * cth[i]
+        ms += wi * sth[i]
     return cw, mx, my, mc, ms
 
 
@@ -394,9 +394,14 @@ def pose_nb(parts, n, w, prev, radius, near_xy, near_th, jump_weight, out):  # p
             best_near = i
     r2 = radius * radius
     seed = best_near if best_near >= 0 else best_all
-    cw, mx, my, mc, ms = _cluster_nb(parts, n, w, seed, r2)
+    px, py, cth, sth = np.empty(n), np.empty(n), np.empty(n), np.empty(n)  # contiguous, for the sums
+    for i in range(n):
+        px[i], py[i] = parts[i, 0], parts[i, 1]
+    for i in range(n):
+        sth[i], cth[i] = fast_sincos(parts[i, 2])
+    cw, mx, my, mc, ms = _cluster_nb(px, py, cth, sth, n, w, seed, r2)
     if cw < jump_weight and seed != best_all:
-        cw2, mx2, my2, mc2, ms2 = _cluster_nb(parts, n, w, best_all, r2)
+        cw2, mx2, my2, mc2, ms2 = _cluster_nb(px, py, cth, sth, n, w, best_all, r2)
         if cw2 > cw:  # jump only to a heavier cluster
             seed, cw, mx, my, mc, ms = best_all, cw2, mx2, my2, mc2, ms2
     if not cw > 0.0:  # weights that are not a distribution (cannot happen after normalise_nb): the seed
