@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 
 from cognition.percepts import N_COLS, Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
-from cognition.worldmodel.kalman_ball import KalmanBallParams, own_frame_nb, update
+from cognition.worldmodel.kalman_ball import KalmanBallParams, own_frame_nb, publish_nb, update
 from cognition.worldmodel.messages import TeamMessage
 
 GATE = 25.0
@@ -77,6 +77,8 @@ class KalmanBallModel:
         self.source = "none"
         self._status = np.zeros(2, dtype=np.int64)
         """(1 if the compiled frame is given a state, consecutive rejected percepts) (:func:`own_frame_nb`)."""
+        self._out = np.zeros(3)
+        """Position sd and field position of the published state (:func:`publish_nb`)."""
 
     def update(self, frame: SensorFrame, pose: RobotPose | None = None, team: Sequence[TeamMessage] = ()) -> BallModel:
         """One frame (robot frame results; ``pose`` only for field coordinates and team balls)."""
@@ -103,8 +105,6 @@ class KalmanBallModel:
                 self.source = "vision"
         if not seen and pose is not None and team and self._needs_team():
             self._team(pose, team)
-        if pose is not None and self.limits is not None:
-            self._keep_on_carpet(pose, self.limits)
         return self._output(pose)
 
     # -- updates ---------------------------------------------------------------------------
@@ -148,40 +148,23 @@ class KalmanBallModel:
             self.x, self.p = update(self.x, self.p, z, r)
         self.source = "team"
 
-    def _keep_on_carpet(self, pose: RobotPose, limits: tuple[float, float]) -> None:
-        if self.x is None:
-            return
-        c, s = math.cos(pose.theta), math.sin(pose.theta)
-        x = self.x
-        fx, fy = pose.x + c * x[0] - s * x[1], pose.y + s * x[0] + c * x[1]
-        if not (math.isfinite(fx) and math.isfinite(fy)) or (abs(fx) <= limits[0] and abs(fy) <= limits[1]):
-            return  # on the carpet (or a pose that says nothing: the output check handles it)
-        vx, vy = c * x[2] - s * x[3], s * x[2] + c * x[3]  # field frame
-        if abs(fx) > limits[0]:
-            fx, vx = math.copysign(limits[0], fx), 0.0
-        if abs(fy) > limits[1]:
-            fy, vy = math.copysign(limits[1], fy), 0.0
-        dx, dy = fx - pose.x, fy - pose.y
-        self.x = np.array([c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy])
-
     # -- output ----------------------------------------------------------------------------
     def _output(self, pose: RobotPose | None) -> BallModel:
-        # a sum is finite only when every term is (NaN and infinities propagate)
-        if self.x is not None and self.p is not None and not math.isfinite(float(self.x.sum() + self.p.sum())):
-            self.x = self.p = None  # NaN would read as a certain ball below (max(0, nan) is 0)
-            self.source = "none"
+        """Keep the state on the carpet (given ``limits`` and a pose) and publish it
+        (:func:`publish_nb`); a state that is not finite is dropped (module docstring)."""
+        if self.x is not None and self.p is not None:
+            lim = self.limits if self.limits is not None else (-1.0, -1.0)
+            has_pose = pose is not None
+            px, py, pth = (pose.x, pose.y, pose.theta) if pose is not None else (0.0, 0.0, 0.0)
+            if not publish_nb(self.x, self.p, has_pose, px, py, pth, lim[0], lim[1], self._out):
+                self.x = self.p = None  # NaN would read as a certain ball (max(0, nan) is 0)
+                self.source = "none"
         if self.x is None or self.p is None:
             return BallModel(0.0, 0.0, 0.0, 0.0, _UNKNOWN_COV, math.nan, math.nan, math.inf, "invalid", "none")
-        p = self.p
         x0, x1, x2, x3 = self.x.tolist()
-        sd = math.sqrt(max(0.0, 0.5 * float(p[0, 0] + p[1, 1])))  # finite here
+        sd, fx, fy = self._out.tolist()
         level: BallLevel = "valid" if sd < VALID_SIGMA else ("suspicious" if sd < SUSPICIOUS_SIGMA else "invalid")
-        fx = fy = math.nan
-        if pose is not None:
-            c, s = math.cos(pose.theta), math.sin(pose.theta)
-            fx = pose.x + c * x0 - s * x1
-            fy = pose.y + s * x0 + c * x1
         age = (self.time or 0.0) - self.last_seen
-        p = p.copy()  # the state is updated in place; the output keeps this frame's covariance
+        p = self.p.copy()  # the state is updated in place; the output keeps this frame's covariance
         p.flags.writeable = False
         return BallModel(x0, x1, x2, x3, p, fx, fy, age, level, self.source)  # type: ignore[arg-type]

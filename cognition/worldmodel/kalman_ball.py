@@ -421,3 +421,42 @@ def own_frame_nb(
         _start_nb(x, p, zs[best], rs[best], velocity_var)
         return True
     return False
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def publish_nb(x, p, has_pose, px, py, pth, lim_x, lim_y, out):  # pragma: no cover - compiled
+    """The end of a frame of :class:`cognition.worldmodel.ball.KalmanBallModel` in one call.
+
+    With a pose (``has_pose``; ``px``, ``py`` m and ``pth`` rad, team frame) and limits
+    (``lim_x``, ``lim_y`` > 0, m): a state whose field position lies beyond them is put back on
+    the limit and loses its velocity across it, in place in ``x`` (robot frame). Then, if every
+    entry of ``x`` and ``p`` is finite, ``out`` receives the position sd (m, the root of half
+    the trace of the position block, at least 0) and the field position (x, y, team frame; NaN
+    without a pose), and the call returns True; a non-finite state returns False.
+    """
+    if has_pose and lim_x > 0.0:
+        c, s = math.cos(pth), math.sin(pth)
+        fx, fy = px + c * x[0] - s * x[1], py + s * x[0] + c * x[1]
+        if math.isfinite(fx) and math.isfinite(fy) and not (abs(fx) <= lim_x and abs(fy) <= lim_y):
+            vx, vy = c * x[2] - s * x[3], s * x[2] + c * x[3]  # field frame
+            if abs(fx) > lim_x:
+                fx, vx = math.copysign(lim_x, fx), 0.0
+            if abs(fy) > lim_y:
+                fy, vy = math.copysign(lim_y, fy), 0.0
+            dx, dy = fx - px, fy - py
+            x[0], x[1], x[2], x[3] = c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy
+    total = 0.0
+    for i in range(4):
+        total += x[i]
+    for i in range(4):
+        for j in range(4):
+            total += p[i, j]
+    if not math.isfinite(total):
+        return False
+    out[0] = math.sqrt(max(0.0, 0.5 * (p[0, 0] + p[1, 1])))
+    out[1] = out[2] = math.nan
+    if has_pose:
+        c, s = math.cos(pth), math.sin(pth)
+        out[1] = px + c * x[0] - s * x[1]
+        out[2] = py + s * x[0] + c * x[1]
+    return True
