@@ -28,7 +28,8 @@ budget over the game (:func:`message_due`).
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from collections.abc import Callable
+from functools import partial
 from typing import ClassVar
 
 from cognition.behaviors.head_control import HeadControl, HeadParams
@@ -124,6 +125,12 @@ class ScriptedBrain:
         self.role = Role.NONE
         self.state = "stand"
         self._last_message = -1e9
+        board = self.provider.board
+        self._stage_runs: dict[str, Callable[[], None]] = {
+            stage: partial(module.run, board) for stage, module in self.provider.modules.items()
+        }
+        """What each stage calls: the cognition frame's modules on its blackboard, then ours."""
+        self._stage_runs.update({"behaviour": self._behave, "team message out": self._message_out})
 
     def rejected_inputs(self) -> dict[str, int]:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
@@ -153,13 +160,7 @@ class ScriptedBrain:
 
     def run_stage(self, stage: str) -> None:
         """Run the module ``stage`` of :attr:`stages` on the current frame."""
-        if stage == "behaviour":
-            self._behave()
-        elif stage == "team message out":
-            self._message_out()
-        else:
-            assert self.provider is not None
-            self.provider.run_stage(stage)
+        self._stage_runs[stage]()
 
     def finish(self) -> BrainOutput:
         """The motion request and team message of the frame."""
@@ -173,7 +174,7 @@ class ScriptedBrain:
         self.beliefs = b
         self.state = self._transition(b)
         motion = self._act(b)
-        self._motion = replace(motion, head=self.head.request(b))
+        self._motion = MotionRequest(motion.walk, motion.kick, self.head.request(b))
 
     def _message_out(self) -> None:
         assert self.context is not None
