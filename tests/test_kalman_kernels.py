@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from cognition.worldmodel.ball import GATE, RESTART_AFTER, KalmanBallModel
-from cognition.worldmodel.kalman_ball import own_frame_nb
+from cognition.worldmodel.kalman_ball import own_frame_nb, publish_nb
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
 
@@ -144,3 +144,60 @@ def test_the_compiled_ball_frame_equals_a_plain_kalman_filter() -> None:
     assert frames_seen > 1000
     # every branch of the frame was compared (harsh percepts: false balls get gated out)
     assert min(outcomes.values()) > 0, outcomes
+
+
+def reference_publish(x, p, pose, limits):
+    """The end of a ball frame in plain Python: back onto the carpet (the boards stop the ball
+    and its velocity across them), then the finiteness check and the published sd and field
+    position (the Python this module ran before :func:`publish_nb`)."""
+    x = x.copy()
+    if pose is not None and limits is not None:
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        fx, fy = pose[0] + c * x[0] - s * x[1], pose[1] + s * x[0] + c * x[1]
+        if math.isfinite(fx) and math.isfinite(fy) and not (abs(fx) <= limits[0] and abs(fy) <= limits[1]):
+            vx, vy = c * x[2] - s * x[3], s * x[2] + c * x[3]
+            if abs(fx) > limits[0]:
+                fx, vx = math.copysign(limits[0], fx), 0.0
+            if abs(fy) > limits[1]:
+                fy, vy = math.copysign(limits[1], fy), 0.0
+            dx, dy = fx - pose[0], fy - pose[1]
+            x = np.array([c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy])
+    if not math.isfinite(float(x.sum() + p.sum())):
+        return x, None
+    sd = math.sqrt(max(0.0, 0.5 * float(p[0, 0] + p[1, 1])))
+    fx = fy = math.nan
+    if pose is not None:
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        fx, fy = pose[0] + c * x[0] - s * x[1], pose[1] + s * x[0] + c * x[1]
+    return x, (sd, fx, fy)
+
+
+def test_publishing_a_ball_equals_the_plain_python_step() -> None:
+    """:func:`publish_nb` against :func:`reference_publish` on random states, to the bit: on and
+    off the carpet (past a side, an end, a corner), without a pose or limits, and non-finite."""
+    rng = np.random.default_rng(5)
+    limits = (5.2, 3.7)
+    kinds = {"kept": 0, "moved": 0, "dropped": 0, "no pose": 0, "no limits": 0}
+    for trial in range(3000):
+        x = rng.normal(0.0, 4.0, 4)
+        a = rng.normal(0.0, 0.5, (4, 4))
+        p = a @ a.T
+        pose = (rng.uniform(-5, 5), rng.uniform(-3.5, 3.5), rng.uniform(-math.pi, math.pi))
+        use_pose, use_limits = trial % 7 != 0, trial % 11 != 0
+        if trial % 13 == 0:
+            (x if trial % 2 else p)[rng.integers(0, 4), ...] = rng.choice([math.nan, math.inf, -math.inf])
+        pose_arg = pose if use_pose else None
+        lim_arg = limits if use_limits else None
+        x_ref, out_ref = reference_publish(x, p, pose_arg, lim_arg)
+        xk, out = x.copy(), np.zeros(3)
+        lim = lim_arg if lim_arg is not None else (-1.0, -1.0)
+        ok = publish_nb(xk, p, use_pose, *(pose if use_pose else (0.0, 0.0, 0.0)), lim[0], lim[1], out)
+        assert ok == (out_ref is not None)
+        assert np.array_equal(xk, x_ref, equal_nan=True)
+        if out_ref is not None:
+            assert np.array_equal(out, np.array(out_ref), equal_nan=True)
+        moved = not np.array_equal(x, x_ref, equal_nan=True)
+        kinds["dropped" if out_ref is None else "moved" if moved else "kept"] += 1
+        kinds["no pose"] += not use_pose
+        kinds["no limits"] += not use_limits
+    assert min(kinds.values()) > 20, kinds
