@@ -201,9 +201,14 @@ class ObstacleSectors:
         """Move with the odometry (per sector's obstacle point), forget old ones, add percepts."""
         self.time = time
         o = odometry
-        robots = _NO_ROBOTS if percepts is None else percepts.table(Kind.ROBOT).rows
-        _sectors_update_nb(self.distance, self.stamp, time, self.memory, o.dx, o.dy, o.dtheta, robots, _CX, _CY)
-        return self.model()
+        table, lo, hi = _NO_ROBOTS, 0, 0
+        if percepts is not None:
+            table, offsets = percepts.table_and_offsets
+            lo, hi = int(offsets[_ROBOT]), int(offsets[_ROBOT + 1])
+        points = _sectors_frame_nb(
+            self.distance, self.stamp, time, self.memory, o.dx, o.dy, o.dtheta, table, lo, hi, _CX, _CY
+        )  # fmt: skip
+        return ObstacleModel(points, None, 0.0)
 
     def model(self) -> ObstacleModel:
         """The sectors' obstacle points (robot frame, m; one per sector that holds one)."""
@@ -212,6 +217,7 @@ class ObstacleSectors:
 
 _NO_ROBOTS = np.zeros((0, len(Col)))
 _CX, _CY = int(Col.X), int(Col.Y)
+_ROBOT = int(Kind.ROBOT)
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
@@ -265,3 +271,11 @@ def _sector_points_nb(distance):  # pragma: no cover - compiled
             out[n, 0], out[n, 1] = distance[k] * np.cos(a), distance[k] * np.sin(a)
             n += 1
     return out
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def _sectors_frame_nb(distance, stamp, time, memory, dx, dy, dth, table, lo, hi, cx, cy):  # pragma: no cover - compiled
+    """:func:`_sectors_update_nb` with the robot percepts ``table[lo:hi]``, then
+    :func:`_sector_points_nb`: one frame of :class:`ObstacleSectors` in one call."""
+    _sectors_update_nb(distance, stamp, time, memory, dx, dy, dth, table[lo:hi], cx, cy)
+    return _sector_points_nb(distance)
