@@ -56,7 +56,9 @@ pitch_max     0.5      [-pi/2, pi/2]   head pitch of action 1.0 (rad)
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -215,6 +217,8 @@ class PolicyBrain:
         self._pending: tuple[SensorFrame, OracleInput | None] | None = None
         self._frame: tuple[SensorFrame, OracleInput | None] | None = None
         self._output = BrainOutput(motion=MotionRequest())
+        self._stage_runs: dict[str, Callable[[], None]] = {"policy action": self._act_stage}
+        self._stages: tuple[str, ...] = ("policy action",)
 
     def reset(self, context: BrainContext) -> None:
         """Build the cognition frame, the skills and the observation builder."""
@@ -237,6 +241,14 @@ class PolicyBrain:
         self.pose = None
         self.action = np.zeros(CONTINUOUS_SIZE) if self.action_type == "continuous" else 0
         self._last_message = -1e9
+        self._stage_runs = {"policy action": self._act_stage}
+        """What each stage calls: the cognition stack's modules on its blackboard, then the action."""
+        if isinstance(self.provider, CognitionBeliefs):
+            board = self.provider.board
+            modules = self.provider.modules
+            self._stage_runs = {stage: partial(modules[stage].run, board) for stage in self.provider.stages}
+            self._stage_runs["policy action"] = self._act_stage
+        self._stages = tuple(self._stage_runs)
 
     def rejected_inputs(self) -> dict[str, int]:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
@@ -246,9 +258,7 @@ class PolicyBrain:
     @property
     def stages(self) -> tuple[str, ...]:
         """The modules of one frame: the cognition stack's (none on truth beliefs), then the action."""
-        if isinstance(self.provider, CognitionBeliefs):
-            return (*self.provider.stages, "policy action")
-        return ("policy action",)
+        return self._stages
 
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Update the beliefs, then carry out the current action (every stage in order)."""
@@ -264,11 +274,10 @@ class PolicyBrain:
 
     def run_stage(self, stage: str) -> None:
         """Run one stage of :attr:`stages`: a module of the cognition stack, or the action."""
-        if stage == "policy action":
-            self._output = self._carry_out()
-        else:
-            assert isinstance(self.provider, CognitionBeliefs)
-            self.provider.run_stage(stage)
+        self._stage_runs[stage]()
+
+    def _act_stage(self) -> None:
+        self._output = self._carry_out()
 
     def finish(self) -> BrainOutput:
         """The motion (and team message) of the frame."""

@@ -131,6 +131,7 @@ class ScriptedBrain:
         }
         """What each stage calls: the cognition frame's modules on its blackboard, then ours."""
         self._stage_runs.update({"behaviour": self._behave, "team message out": self._message_out})
+        self._stages = self.provider.stages + self.BEHAVIOUR_STAGES
 
     def rejected_inputs(self) -> dict[str, int]:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
@@ -144,7 +145,7 @@ class ScriptedBrain:
         """The modules of one frame: the cognition frame's, then behaviour and the team message."""
         if self.provider is None:
             raise RuntimeError("ScriptedBrain.stages read before reset()")
-        return self.provider.stages + self.BEHAVIOUR_STAGES
+        return self._stages
 
     def think(self, frame: SensorFrame, oracle: OracleInput | None) -> BrainOutput:
         """Update the beliefs, choose the state, act (every stage of :attr:`stages` in order)."""
