@@ -56,6 +56,12 @@ from cognition.geometry import wrap_angle
 from cognition.representations import HeadRequest, HeadState, KickRequest, WalkRequest
 from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
 
+set_velocity = pymunk.Body.velocity.fset
+"""``Body.velocity``'s setter, called without the per-attribute ``__setattr__`` shim pymunk's
+bodies carry for type checkers (same effect, a third of the cost in the physics loop)."""
+set_angular_velocity = pymunk.Body.angular_velocity.fset
+"""``Body.angular_velocity``'s setter (see :data:`set_velocity`)."""
+
 COLLISION_ROBOT = 1
 COLLISION_BALL = 2
 COLLISION_POST = 3
@@ -187,8 +193,15 @@ class Robot:
         """The body's (x, y, angle) as pymunk holds it (angle not wrapped), read after every physics
         step and set by :meth:`teleport`: nothing else moves the body, so reading it once per step
         serves the walking engine, :attr:`pose` and the referee's many looks."""
-        self._pose = (0.0, 0.0, 0.0)
-        """``_body_pose`` with the angle wrapped (:attr:`pose`)."""
+        self._pose: tuple[float, float, float] | None = (0.0, 0.0, 0.0)
+        """``_body_pose`` with the angle wrapped (:attr:`pose`); ``None`` until first asked for after
+        the body moved (the walking engine and the foul checks need only ``_body_pose``)."""
+        self._step_rotation = (1.0, 0.0)
+        """cos and sin of the body angle at the start of the physics step in progress, computed by
+        :meth:`pre_step` and reused by :meth:`post_step` (the body does not turn in between)."""
+        self._head_resting = False
+        """The head is at its clipped target with zero rates and reads the requested camera:
+        :meth:`_step_head` would change nothing until :meth:`command` sets a new target."""
 
     # -- placement -------------------------------------------------------------------------
     def add_to(self, space: pymunk.Space) -> None:
@@ -222,7 +235,11 @@ class Robot:
     @property
     def pose(self) -> tuple[float, float, float]:
         """World pose (x m, y m, theta rad wrapped)."""
-        return self._pose
+        pose = self._pose
+        if pose is None:
+            x, y, th = self._body_pose
+            pose = self._pose = (x, y, wrap_angle(th))
+        return pose
 
     @property
     def body_pose(self) -> tuple[float, float, float]:
@@ -230,11 +247,11 @@ class Robot:
         return self._body_pose
 
     def _read_body(self) -> None:
-        """Read the body's pose from pymunk into :attr:`_body_pose` and :attr:`pose`."""
-        p = self.body.position
-        th = self.body.angle
-        self._body_pose = (p.x, p.y, th)
-        self._pose = (p.x, p.y, wrap_angle(th))
+        """Read the body's pose from pymunk into :attr:`_body_pose` (:attr:`pose` follows on demand)."""
+        body = self.body
+        x, y = body.position
+        self._body_pose = (x, y, body.angle)
+        self._pose = None
 
     # -- commands --------------------------------------------------------------------------
     def command(self, walk: WalkRequest, kick: KickRequest | None, head: HeadRequest) -> None:
@@ -243,6 +260,7 @@ class Robot:
         self._target = self._clipped_target()
         self.head_target = head
         self._goal = self._head_goal()
+        self._head_resting = False
         if kick is not None and self.kick_request is None and self.can_walk_at_all():
             self.kick_request = kick
 
@@ -280,46 +298,66 @@ class Robot:
 
     # -- per physics step ------------------------------------------------------------------
     def pre_step(self, now: float, dt: float) -> None:
-        """Advance the walking engine and head by ``dt`` and set the control body."""
-        self._step_head(dt)
+        """Advance the walking engine and head by ``dt`` (s) and set the control body.
+
+        The executed walk speed (robot frame) moves toward the clipped target by at most
+        ``max_linear_accel * dt`` (m/s) and ``max_angular_accel * dt`` (rad/s) per axis; the control
+        body gets that speed rotated into the world frame by the body angle at the start of the
+        step, and the planned motion integrates it in the robot frame.
+        """
+        if not self._head_resting:
+            self._step_head(dt)
         if not self.in_space:
             return
-        if self.fallen_until >= 0 and now >= self.fallen_until:
-            self.fallen_until = -1.0
+        fallen_until = self.fallen_until
+        if fallen_until >= 0 and now >= fallen_until:
+            self.fallen_until = fallen_until = -1.0
             self.fallen_since = -1.0
-        p = self.params
-        if self.picked_up or self.is_fallen():
+        if self.picked_up or fallen_until >= 0:
+            vx = vy = w = 0.0
             self.velocity = [0.0, 0.0, 0.0]
         else:
-            target = (0.0, 0.0, 0.0) if now < self.busy_until else self._target
+            p = self.params
+            tx, ty, tw = (0.0, 0.0, 0.0) if now < self.busy_until else self._target
             lin, ang = p.max_linear_accel * dt, p.max_angular_accel * dt
-            v = self.velocity
-            self.velocity = [
-                v[0] + min(lin, max(-lin, target[0] - v[0])),
-                v[1] + min(lin, max(-lin, target[1] - v[1])),
-                v[2] + min(ang, max(-ang, target[2] - v[2])),
-            ]
-        vx, vy, w = self.velocity
+            vx, vy, w = self.velocity
+            # each axis: v + min(limit, max(-limit, target - v)), written as comparisons
+            d = tx - vx
+            vx += lin if d > lin else (-lin if d < -lin else d)
+            d = ty - vy
+            vy += lin if d > lin else (-lin if d < -lin else d)
+            d = tw - w
+            w += ang if d > ang else (-ang if d < -ang else d)
+            self.velocity = [vx, vy, w]
         th = self._body_pose[2]
         c, s = math.cos(th), math.sin(th)
-        control = (c * vx - s * vy, s * vx + c * vy, w)
-        if control != self._control:
-            self.control.velocity = control[:2]
-            self.control.angular_velocity = w
-            self._control = control
-        self.planned = compose(self.planned, (vx * dt, vy * dt, w * dt))
+        self._step_rotation = (c, s)
+        cvx, cvy = c * vx - s * vy, s * vx + c * vy
+        last = self._control
+        if cvx != last[0] or cvy != last[1] or w != last[2]:
+            set_velocity(self.control, (cvx, cvy))
+            set_angular_velocity(self.control, w)
+            self._control = (cvx, cvy, w)
+        # planned = compose(planned, (vx dt, vy dt, w dt)), inlined
+        px, py, pth = self.planned
+        pc, ps = math.cos(pth), math.sin(pth)
+        dx, dy = vx * dt, vy * dt
+        self.planned = (px + pc * dx - ps * dy, py + ps * dx + pc * dy, pth + w * dt)
 
     def post_step(self) -> None:
-        """Accumulate the true body motion of the step just simulated."""
+        """Accumulate the true body motion of the step just simulated (after :meth:`pre_step`)."""
         if not self.in_space:
             return
         x0, y0, th0 = self._body_pose
         self._read_body()
         x1, y1, th1 = self._body_pose
-        c, s = math.cos(th0), math.sin(th0)
+        c, s = self._step_rotation  # cos, sin of th0
         dxw, dyw = x1 - x0, y1 - y0
-        local = (c * dxw + s * dyw, -s * dxw + c * dyw, th1 - th0)
-        self.true_motion = compose(self.true_motion, local)
+        lx, ly = c * dxw + s * dyw, -s * dxw + c * dyw
+        # true_motion = compose(true_motion, (lx, ly, th1 - th0)), inlined
+        ax, ay, ath = self.true_motion
+        ac, as_ = math.cos(ath), math.sin(ath)
+        self.true_motion = (ax + ac * lx - as_ * ly, ay + as_ * lx + ac * ly, ath + (th1 - th0))
 
     def take_motion(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
         """Return and reset (planned, true) motion since the last call, robot frame."""
@@ -341,7 +379,8 @@ class Robot:
         ty, tp, speed = self._goal
         camera = self.head_target.camera
         if ty == h.yaw and tp == h.pitch and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == camera:
-            return  # resting at the target
+            self._head_resting = True  # until the next command
+            return
         dy = min(max(ty - h.yaw, -speed * dt), speed * dt)
         dp = min(max(tp - h.pitch, -speed * dt), speed * dt)
         if dy == 0.0 and dp == 0.0 and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == camera:

@@ -41,6 +41,8 @@ from teamsim.robot import (
     COLLISION_WALL,
     Robot,
     RobotParams,
+    set_angular_velocity,
+    set_velocity,
 )
 from teamsim.state import RobotTruth, WorldSnapshot
 
@@ -112,6 +114,7 @@ class World:
         self._add_statics()
         self.ball_radius = field_map.dims.ball_diameter / 2.0
         self.ball = pymunk.Body(params.ball_mass, pymunk.moment_for_circle(params.ball_mass, 0, self.ball_radius))
+        self._rolling_decel = params.ball_rolling_decel
         self.ball.velocity_func = self._ball_velocity
         self.ball_shape = pymunk.Circle(self.ball, self.ball_radius)
         self.ball_shape.collision_type = COLLISION_BALL
@@ -165,13 +168,17 @@ class World:
         self.space.add(*shapes)
 
     def _ball_velocity(self, body: pymunk.Body, gravity: Any, damping: float, dt: float) -> None:
+        """pymunk's velocity integration of the ball (no damping), then the rolling friction:
+        the speed drops by ``ball_rolling_decel * dt`` (m/s, not below 0) and the spin is zeroed."""
         pymunk.Body.update_velocity(body, gravity, 1.0, dt)
         vx, vy = body.velocity
         speed = math.hypot(vx, vy)
         if speed > 0.0:
-            new = max(0.0, speed - self.params.ball_rolling_decel * dt)
-            body.velocity = (vx * new / speed, vy * new / speed)
-        body.angular_velocity = 0.0
+            new = speed - self._rolling_decel * dt
+            if new < 0.0:  # max(0.0, new)
+                new = 0.0
+            set_velocity(body, (vx * new / speed, vy * new / speed))
+        set_angular_velocity(body, 0.0)
 
     def _install_handlers(self) -> None:
         self.space.on_collision(COLLISION_ROBOT, COLLISION_ROBOT, begin=self._rr_contact, pre_solve=self._rr_contact)
@@ -241,20 +248,25 @@ class World:
     def step(self, now: float) -> list[CollisionEvent]:
         """Advance the world by one physics step starting at time ``now`` (s)."""
         self._now = now
-        self._events = []
+        events: list[CollisionEvent] = []
+        self._events = events
         dt = self.dt
-        for robot in self.robots:
+        robots = self.robots
+        for robot in robots:
             robot.pre_step(now, dt)
-        sub = dt / self.params.substeps
-        for _ in range(self.params.substeps):
-            self.space.step(sub)
-        for robot in self.robots:
+        substeps = self.params.substeps
+        sub = dt / substeps
+        space = self.space
+        for _ in range(substeps):
+            space.step(sub)
+        for robot in robots:
             robot.post_step()
-            if robot.try_kick(now, self.ball, self.ball_radius):
+            if robot.kick_request is not None and robot.try_kick(now, self.ball, self.ball_radius):
                 speed = abs(self.ball.velocity)
-                self._events.append(CollisionEvent(now, "robot_kick", (robot.team, robot.number), None, True, speed))
-        self._apply_falls(now)
-        return self._events
+                events.append(CollisionEvent(now, "robot_kick", (robot.team, robot.number), None, True, speed))
+        if events:
+            self._apply_falls(now)
+        return events
 
     def _apply_falls(self, now: float) -> None:
         p = self.params.robot
