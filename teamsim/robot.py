@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import ClassVar, Literal
 
 import numpy as np
 import pymunk
@@ -172,7 +172,11 @@ class Robot:
         self.in_space = False
         self.walk_target = WalkRequest()
         self.velocity = [0.0, 0.0, 0.0]  # executed walk speed (vx m/s, vy m/s, w rad/s), robot frame
-        self.head = HeadState()
+        self._head_joints: tuple[float, float, float, float, Literal["upper", "lower"]] = (0.0, 0.0, 0.0, 0.0, "upper")
+        """The head's (yaw rad, pitch rad, yaw rate rad/s, pitch rate rad/s, camera), advanced by
+        :meth:`_step_head` at the physics rate; :attr:`head` packs it when someone reads it."""
+        self._head: HeadState | None = HeadState()
+        """:attr:`head` as last packed (``None`` after the joints moved)."""
         self.head_target = HeadRequest()
         self.kick_request: KickRequest | None = None
         self.busy_until = 0.0  # kicking
@@ -242,6 +246,15 @@ class Robot:
         return pose
 
     @property
+    def head(self) -> HeadState:
+        """Measured head joint angles and rates (relative to the torso) after the last physics step."""
+        head = self._head
+        if head is None:
+            yaw, pitch, yaw_rate, pitch_rate, camera = self._head_joints
+            head = self._head = HeadState(yaw=yaw, pitch=pitch, yaw_rate=yaw_rate, pitch_rate=pitch_rate, camera=camera)
+        return head
+
+    @property
     def body_pose(self) -> tuple[float, float, float]:
         """World pose as the physics body holds it (x m, y m, theta rad, not wrapped)."""
         return self._body_pose
@@ -283,11 +296,26 @@ class Robot:
         return self.fallen_until
 
     def _clipped_target(self) -> tuple[float, float, float]:
+        """The walk target clipped to the speed limits per axis, then scaled into the limits'
+        ellipsoid (m/s, m/s, rad/s; robot frame)."""
         p = self.params
         w = self.walk_target
-        fwd = min(max(w.forward, -p.max_backward), p.max_forward)
-        left = min(max(w.left, -p.max_sideways), p.max_sideways)
-        turn = min(max(w.turn, -p.max_turn), p.max_turn)
+        # each axis min(max(value, low), high), written as comparisons
+        fwd = w.forward
+        if -p.max_backward > fwd:
+            fwd = -p.max_backward
+        if p.max_forward < fwd:
+            fwd = p.max_forward
+        left = w.left
+        if -p.max_sideways > left:
+            left = -p.max_sideways
+        if p.max_sideways < left:
+            left = p.max_sideways
+        turn = w.turn
+        if -p.max_turn > turn:
+            turn = -p.max_turn
+        if p.max_turn < turn:
+            turn = p.max_turn
         norm = math.sqrt(
             (fwd / (p.max_forward if fwd >= 0 else p.max_backward)) ** 2
             + (left / p.max_sideways) ** 2
@@ -335,8 +363,13 @@ class Robot:
         cvx, cvy = c * vx - s * vy, s * vx + c * vy
         last = self._control
         if cvx != last[0] or cvy != last[1] or w != last[2]:
-            set_velocity(self.control, (cvx, cvy))
-            set_angular_velocity(self.control, w)
+            # A kinematic body keeps its velocity (the solver adds at most a zero to it), so a
+            # non-zero value equal to the last one sent is already there bit for bit; zeros are
+            # sent again, as they may differ in sign.
+            if cvx != last[0] or cvy != last[1] or cvx == 0.0 or cvy == 0.0:
+                set_velocity(self.control, (cvx, cvy))
+            if w != last[2] or w == 0.0:
+                set_angular_velocity(self.control, w)
             self._control = (cvx, cvy, w)
         # planned = compose(planned, (vx dt, vy dt, w dt)), inlined
         px, py, pth = self.planned
@@ -370,28 +403,46 @@ class Robot:
         """The head target's (yaw rad, pitch rad, speed rad/s) clipped to the joint limits."""
         p = self.params
         t = self.head_target
-        ty = min(max(t.yaw, -p.head_yaw_limit), p.head_yaw_limit)
-        tp = min(max(t.pitch, p.head_pitch_min), p.head_pitch_max)
-        return (ty, tp, min(t.speed, p.head_max_speed))
+        # min(max(value, low), high) and min(speed, high), written as comparisons
+        ty = t.yaw
+        if -p.head_yaw_limit > ty:
+            ty = -p.head_yaw_limit
+        if p.head_yaw_limit < ty:
+            ty = p.head_yaw_limit
+        tp = t.pitch
+        if p.head_pitch_min > tp:
+            tp = p.head_pitch_min
+        if p.head_pitch_max < tp:
+            tp = p.head_pitch_max
+        speed = t.speed
+        if p.head_max_speed < speed:
+            speed = p.head_max_speed
+        return (ty, tp, speed)
 
     def _step_head(self, dt: float) -> None:
-        h = self.head
+        """Move the head joints toward the clipped target by at most ``speed * dt`` (rad) each."""
+        yaw, pitch, yaw_rate, pitch_rate, camera_now = self._head_joints
         ty, tp, speed = self._goal
         camera = self.head_target.camera
-        if ty == h.yaw and tp == h.pitch and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == camera:
+        if ty == yaw and tp == pitch and yaw_rate == 0.0 and pitch_rate == 0.0 and camera_now == camera:
             self._head_resting = True  # until the next command
             return
-        dy = min(max(ty - h.yaw, -speed * dt), speed * dt)
-        dp = min(max(tp - h.pitch, -speed * dt), speed * dt)
-        if dy == 0.0 and dp == 0.0 and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == camera:
+        reach = speed * dt
+        # min(max(target - angle, -reach), reach), written as comparisons
+        dy = ty - yaw
+        if -reach > dy:
+            dy = -reach
+        if reach < dy:
+            dy = reach
+        dp = tp - pitch
+        if -reach > dp:
+            dp = -reach
+        if reach < dp:
+            dp = reach
+        if dy == 0.0 and dp == 0.0 and yaw_rate == 0.0 and pitch_rate == 0.0 and camera_now == camera:
             return
-        self.head = HeadState(
-            yaw=h.yaw + dy,
-            pitch=h.pitch + dp,
-            yaw_rate=dy / dt,
-            pitch_rate=dp / dt,
-            camera=camera,
-        )
+        self._head_joints = (yaw + dy, pitch + dp, dy / dt, dp / dt, camera)
+        self._head = None
 
     def try_kick(self, now: float, ball: pymunk.Body, ball_radius: float) -> bool:
         """Execute a pending kick; returns True if the ball was struck."""
