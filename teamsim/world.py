@@ -116,6 +116,11 @@ class World:
         self.ball = pymunk.Body(params.ball_mass, pymunk.moment_for_circle(params.ball_mass, 0, self.ball_radius))
         self._rolling_decel = params.ball_rolling_decel
         self.ball.velocity_func = self._ball_velocity
+        self._ball_integrator_c = False
+        """Whether pymunk's own velocity integrator runs for the ball (only while it is at rest,
+        :meth:`_choose_ball_integrator`) instead of :meth:`_ball_velocity`."""
+        self._ball_may_rest = True
+        """The ball may have come to rest since the integrator was last chosen."""
         self.ball_shape = pymunk.Circle(self.ball, self.ball_radius)
         self.ball_shape.collision_type = COLLISION_BALL
         self.ball_shape.elasticity = params.ball_elasticity
@@ -179,6 +184,27 @@ class World:
                 new = 0.0
             set_velocity(body, (vx * new / speed, vy * new / speed))
         set_angular_velocity(body, 0.0)
+        if speed == 0.0 or new == 0.0:
+            self._ball_may_rest = True
+
+    def _choose_ball_integrator(self) -> None:
+        """Before a sub-step: pymunk's own velocity integrator while the ball is at rest, else
+        :meth:`_ball_velocity`.
+
+        For a ball without speed and spin, :meth:`_ball_velocity` does exactly what pymunk's
+        integrator does (the same ``cpBodyUpdateVelocity`` call: no forces act on the ball, the
+        space has neither gravity nor damping; the speed stays 0, the spin 0), so the Python
+        callback runs only while the ball moves. The state is read before every sub-step in
+        which the C integrator would run, so contacts, kicks and placements that set the ball
+        moving switch back at once.
+        """
+        ball = self.ball
+        vx, vy = ball.velocity
+        rest = vx == 0.0 and vy == 0.0 and ball.angular_velocity == 0.0
+        if rest != self._ball_integrator_c:
+            ball.velocity_func = pymunk.Body.update_velocity if rest else self._ball_velocity
+            self._ball_integrator_c = rest
+        self._ball_may_rest = False
 
     def _install_handlers(self) -> None:
         self.space.on_collision(COLLISION_ROBOT, COLLISION_ROBOT, begin=self._rr_contact, pre_solve=self._rr_contact)
@@ -242,6 +268,7 @@ class World:
             raise ValueError(f"ball placement must be finite, got {(x, y, vx, vy)}")
         self.ball.position = (x, y)
         self.ball.velocity = (vx, vy)
+        self._ball_may_rest = True
         self.space.reindex_shapes_for_body(self.ball)
 
     # -- stepping --------------------------------------------------------------------------
@@ -258,6 +285,8 @@ class World:
         sub = dt / substeps
         space = self.space
         for _ in range(substeps):
+            if self._ball_integrator_c or self._ball_may_rest:
+                self._choose_ball_integrator()
             space.step(sub)
         for robot in robots:
             robot.post_step()
