@@ -255,6 +255,12 @@ class Robot:
         return head
 
     @property
+    def head_joints(self) -> tuple[float, float, float, float, Literal["upper", "lower"]]:
+        """The head's (yaw rad, pitch rad, yaw rate rad/s, pitch rate rad/s, camera read) now:
+        :attr:`head` unpacked, without building it."""
+        return self._head_joints
+
+    @property
     def body_pose(self) -> tuple[float, float, float]:
         """World pose as the physics body holds it (x m, y m, theta rad, not wrapped)."""
         return self._body_pose
@@ -382,8 +388,11 @@ class Robot:
         if not self.in_space:
             return
         x0, y0, th0 = self._body_pose
-        self._read_body()
-        x1, y1, th1 = self._body_pose
+        body = self.body
+        x1, y1 = body.position
+        th1 = body.angle
+        self._body_pose = (x1, y1, th1)  # as _read_body
+        self._pose = None
         c, s = self._step_rotation  # cos, sin of th0
         dxw, dyw = x1 - x0, y1 - y0
         lx, ly = c * dxw + s * dyw, -s * dxw + c * dyw
