@@ -200,9 +200,10 @@ class Robot:
         self._pose: tuple[float, float, float] | None = (0.0, 0.0, 0.0)
         """``_body_pose`` with the angle wrapped (:attr:`pose`); ``None`` until first asked for after
         the body moved (the walking engine and the foul checks need only ``_body_pose``)."""
-        self._step_rotation = (1.0, 0.0)
+        self._step_rotation: tuple[float, float] | None = None
         """cos and sin of the body angle at the start of the physics step in progress, computed by
-        :meth:`pre_step` and reused by :meth:`post_step` (the body does not turn in between)."""
+        :meth:`pre_step` and reused by :meth:`post_step` (the body does not turn in between);
+        ``None`` when pre_step did not need them."""
         self._head_resting = False
         """The head is at its clipped target with zero rates and reads the requested camera:
         :meth:`_step_head` would change nothing until :meth:`command` sets a new target."""
@@ -363,11 +364,18 @@ class Robot:
             d = tw - w
             w += ang if d > ang else (-ang if d < -ang else d)
             self.velocity = [vx, vy, w]
+        last = self._control
+        if vx == 0.0 and vy == 0.0 and w == 0.0 and last == (0.0, 0.0, 0.0):
+            # Standing with a still control body: the rotated speed would compare equal to the
+            # last one sent (nothing to send), and adding zero motion leaves the planned motion
+            # as it is bit for bit (its components start at +0.0 and a sum is -0.0 only when
+            # both terms are).
+            self._step_rotation = None
+            return
         th = self._body_pose[2]
         c, s = math.cos(th), math.sin(th)
         self._step_rotation = (c, s)
         cvx, cvy = c * vx - s * vy, s * vx + c * vy
-        last = self._control
         if cvx != last[0] or cvy != last[1] or w != last[2]:
             # A kinematic body keeps its velocity (the solver adds at most a zero to it), so a
             # non-zero value equal to the last one sent is already there bit for bit; zeros are
@@ -393,7 +401,10 @@ class Robot:
         th1 = body.angle
         self._body_pose = (x1, y1, th1)  # as _read_body
         self._pose = None
-        c, s = self._step_rotation  # cos, sin of th0
+        if x1 == x0 and y1 == y0 and th1 == th0:
+            return  # adding zero motion leaves the true motion as it is (see pre_step)
+        rotation = self._step_rotation
+        c, s = (math.cos(th0), math.sin(th0)) if rotation is None else rotation
         dxw, dyw = x1 - x0, y1 - y0
         lx, ly = c * dxw + s * dyw, -s * dxw + c * dyw
         # true_motion = compose(true_motion, (lx, ly, th1 - th0)), inlined
