@@ -3,7 +3,9 @@
 The space has no gravity (top-down 2D). Static shapes: the outer border of the carpet
 (field plus border strip), the goal posts and the goal nets (sides and back). The ball is a
 light dynamic circle whose rolling friction is a constant deceleration applied in its
-velocity function. Robots are :class:`teamsim.robot.Robot` bodies.
+velocity function (while the ball rests, pymunk's own integrator runs instead: for a ball
+without speed and spin both give the same result). Robots are :class:`teamsim.robot.Robot`
+bodies.
 
 Collision handlers only *record* :class:`CollisionEvent` objects; :meth:`World.step` then
 turns hard impacts into falls, and the referee reads the events for pushing evidence.
