@@ -382,9 +382,10 @@ class Match:
         physics step that follows it, so that the caller can still change robots' commands
         (:meth:`command`): how an environment applies a policy's action from that frame on."""
         while True:
-            if not self._cognition_done and self._before_physics():
-                self._cognition_done = True
-                return
+            if not self._cognition_done:
+                self._cognition_done = True  # what is due before this physics step is done now
+                if self._before_physics():
+                    return
             self.step()
             if self.finished:
                 return
