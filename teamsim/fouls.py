@@ -26,14 +26,13 @@ the field lines (more than its radius beyond them) and not inside its goal.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar
 
 from cognition.field import Field
 from cognition.gamestate import Penalty
 from teamsim.params import Ranges, check_ranges, positive
-from teamsim.placement import is_inside_field
 from teamsim.world import CollisionEvent, RobotId, World
 
 
@@ -68,7 +67,6 @@ class _PushTrack:
 
 
 Foul = tuple[RobotId, Penalty]
-TeamPose = Callable[[int, int], tuple[float, float, float]]
 
 
 class FoulDetector:
@@ -81,6 +79,17 @@ class FoulDetector:
         self.entered_field: dict[RobotId, bool] = {(r.team, r.number): False for r in world.robots}
         self._push: dict[tuple[RobotId, RobotId], _PushTrack] = {}
         self._stuck_anchor = (0.0, 0.0, 0.0)
+        self._robots = [(r, (r.team, r.number)) for r in world.robots]
+        d = field_map.dims
+        lw = d.line_width / 2
+        self._lines_x = field_map.half_length + lw
+        """Half extent (m) of the field lines' outer edges along x (as :func:`teamsim.placement.is_inside_field`)."""
+        self._lines_y = field_map.half_width + lw
+        """Half extent (m) of the field lines' outer edges along y."""
+        self._goal_x = field_map.half_length + d.goal_depth
+        """|x| (m) of the back of the goals."""
+        self._goal_y = d.goal_inner_width / 2
+        """|y| (m) of the inner sides of the goal posts."""
 
     def placed(self, robot: RobotId, inside: bool) -> None:
         """A robot was put somewhere; ``inside``: whether that spot is inside the field."""
@@ -90,28 +99,35 @@ class FoulDetector:
         """The ball was (re)placed at (x, y) world frame: restart the stuck clock."""
         self._stuck_anchor = (x, y, now)
 
-    def detect(
-        self, now: float, events: Sequence[CollisionEvent], team_pose: TeamPose, check_stuck: bool
-    ) -> list[Foul]:
-        """Fouls committed in the step that ended at ``now``, in a deterministic order."""
+    def detect(self, now: float, events: Sequence[CollisionEvent], check_stuck: bool) -> list[Foul]:
+        """Fouls committed in the step that ended at ``now``, in a deterministic order.
+
+        The field-leaving test reads world positions: the field lines and the goals are
+        symmetric about both axes and the test looks only at ``|x|`` and ``|y|``, which are the
+        same in the world frame and in either team frame.
+        """
         fouls: list[Foul] = []
-        p = self.params
-        f = self.field
-        for r in self.world.robots:
+        inactive_seconds = self.params.inactive_seconds
+        entered = self.entered_field
+        lines_x, lines_y = self._lines_x, self._lines_y
+        for r, key in self._robots:
             if not r.in_space or r.penalized:
                 continue
-            key = (r.team, r.number)
-            tx, ty, _ = team_pose(r.team, r.number)
-            if is_inside_field(f, tx, ty):
-                self.entered_field[key] = True
-            elif self.entered_field[key] and not is_inside_field(f, tx, ty, margin=r.params.radius):
-                in_goal = abs(ty) < f.dims.goal_inner_width / 2 and abs(tx) < f.half_length + f.dims.goal_depth
-                if not in_goal:
-                    fouls.append((key, Penalty.LEAVING_THE_FIELD))
-                    continue
-            if r.is_fallen() and now - r.fallen_since >= p.inactive_seconds:
+            x, y, _ = r.body_pose
+            ax, ay = abs(x), abs(y)
+            if ax <= lines_x and ay <= lines_y:  # is_inside_field
+                entered[key] = True
+            elif entered[key]:
+                margin = r.params.radius
+                if not (ax <= lines_x + margin and ay <= lines_y + margin):
+                    in_goal = ay < self._goal_y and ax < self._goal_x
+                    if not in_goal:
+                        fouls.append((key, Penalty.LEAVING_THE_FIELD))
+                        continue
+            if r.fallen_until >= 0 and now - r.fallen_since >= inactive_seconds:  # fallen that long
                 fouls.append((key, Penalty.INACTIVE_PLAYER))
-        fouls.extend(self._pushing(now, events))
+        if events:
+            fouls.extend(self._pushing(now, events))
         if check_stuck:
             fouls.extend(self._stuck(now))
         return fouls
@@ -153,7 +169,7 @@ class FoulDetector:
         for r in self.world.robots:
             if not r.in_space:
                 continue
-            x, y, _ = r.pose
+            x, y, _ = r.body_pose
             d = math.hypot(x - bx, y - by)
             if d <= p.stuck_robot_distance + r.params.radius and (best is None or d < best[0]):
                 best = (d, (r.team, r.number))

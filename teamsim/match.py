@@ -382,9 +382,10 @@ class Match:
         physics step that follows it, so that the caller can still change robots' commands
         (:meth:`command`): how an environment applies a policy's action from that frame on."""
         while True:
-            if not self._cognition_done and self._before_physics():
-                self._cognition_done = True
-                return
+            if not self._cognition_done:
+                self._cognition_done = True  # what is due before this physics step is done now
+                if self._before_physics():
+                    return
             self.step()
             if self.finished:
                 return
@@ -431,28 +432,31 @@ class Match:
         """The world as the camera model sees it now (reused buffer, world frame)."""
         sc = self._scene
         p = self.config.percepts
+        standing, lying = p.robot_height, p.fallen_height
         radius = self.config.physics.robot.radius
         signs = (self.referee.sign(0), self.referee.sign(1))
+        robots = self.world.robots
         obs, occ = [], []
-        for robot in self.world.robots:
+        for robot in robots:
             x, y, theta = robot.body_pose
-            h = robot.head
-            v = robot.velocity
+            yaw, pitch, yaw_rate, pitch_rate, camera = robot.head_joints
+            vx, vy, w = robot.velocity
             on = robot.in_space
             fallen = robot.fallen_until >= 0
-            walking = v[0] != 0.0 or v[1] != 0.0 or v[2] != 0.0
+            walking = vx != 0.0 or vy != 0.0 or w != 0.0
             sees = on and not fallen and not robot.picked_up
             obs.append(
-                (x, y, theta, h.yaw, h.pitch, h.yaw_rate, h.pitch_rate, 0.0 if h.camera == "upper" else 1.0,
+                (x, y, theta, yaw, pitch, yaw_rate, pitch_rate, 0.0 if camera == "upper" else 1.0,
                  float(walking), float(sees), signs[robot.team], robot.team)
             )  # fmt: skip
-            occ.append((x, y, radius, p.fallen_height if fallen else p.robot_height, float(on)))
+            occ.append((x, y, radius, lying if fallen else standing, float(on)))
         sc.observers[:] = obs
         sc.occluders[:] = occ
-        sc.turn_rates[:] = [robot.body.angular_velocity for robot in self.world.robots]
+        sc.turn_rates[:] = [robot.body.angular_velocity for robot in robots]
         b = self.world.ball
-        bp, bv = b.position, b.velocity
-        sc.ball[:] = (bp.x, bp.y, bv.x, bv.y, 1.0)
+        bx, by = b.position
+        bvx, bvy = b.velocity
+        sc.ball[:] = (bx, by, bvx, bvy, 1.0)
         return sc
 
     def capture(self) -> list[Percepts]:
@@ -483,20 +487,22 @@ class Match:
         oracle_cache: dict[int, tuple[list[OraclePose], float, float, float, float]] = {}
         frames: list[SensorFrame] = []
         oracles: list[OracleInput | None] = []
+        team_numbers = self.config.referee.team_numbers
+        frame_index = self.frames
         for i, (robot, brain) in enumerate(zip(self.world.robots, self.brains, strict=True)):
             planned, true = robot.take_motion()
             self.true_odometry[i] = TrueOdometry(*true)
             odo = self.odometry[i].report(planned)
             frame = SensorFrame(
                 time=now,
-                frame_index=self.frames,
-                team_number=self.config.referee.team_numbers[robot.team],
+                frame_index=frame_index,
+                team_number=team_numbers[robot.team],
                 player_number=robot.number,
                 odometry=odo,
                 head=robot.head,
                 game=game,
                 picked_up=robot.picked_up,
-                fallen=robot.is_fallen(),
+                fallen=robot.fallen_until >= 0,  # is_fallen()
                 messages=tuple(inbox[robot.team].get(robot.number, ())),
                 percepts=percepts[i] if percepts is not None else None,  # type: ignore[arg-type]
                 image=images[i] if images is not None else None,  # type: ignore[arg-type]
@@ -520,10 +526,11 @@ class Match:
         if prof is not None:
             prof.brains += wallclock.perf_counter() - t0
             prof.robot_frames += len(outs)
+        signs = (self.referee.sign(0), self.referee.sign(1))
         for robot, brain, out in zip(self.world.robots, self.brains, outs, strict=True):
             estimate = getattr(brain, "pose", None)
             if isinstance(estimate, RobotPose) and not robot.penalized:
-                truth = world_to_team(self.referee.sign(robot.team), *robot.pose)
+                truth = world_to_team(signs[robot.team], *robot.pose)
                 self.localization_errors.add(estimate, truth)
             if not robot.penalized:
                 m = out.motion
@@ -539,13 +546,9 @@ class Match:
             x, y, th = world_to_team(sign, *r.pose)
             poses.append(OraclePose(r.number, x, y, th, active=not r.penalized, fallen=r.is_fallen()))
         b = self.world.ball
-        return (
-            poses,
-            sign * b.position.x,
-            sign * b.position.y,
-            sign * b.velocity.x,
-            sign * b.velocity.y,
-        )
+        bx, by = b.position
+        bvx, bvy = b.velocity
+        return (poses, sign * bx, sign * by, sign * bvx, sign * bvy)
 
     def _oracle_for(
         self, team: int, number: int, cached: tuple[list[OraclePose], float, float, float, float]

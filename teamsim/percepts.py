@@ -165,13 +165,22 @@ class PerceptSynthesizer:
             1.0 if distinct_goal_colours else 0.0,
             0.0,
         )
+        self._points = int(self._fidx[G.CIRCLE] - self._fidx[G.POST])
+        """Point-like landmark rows of the field map (posts to the circle samples)."""
+        self._lines = int(self._fidx[G.LINE + 1] - self._fidx[G.LINE])
+        """Line rows of the field map."""
+        self._bounds: dict[int, tuple[int, int]] = {}
+        """:func:`draws_bound` per number of observers (the field map does not change)."""
         self._normals = np.zeros(0)
         self._uniforms = np.zeros(0)
         self._cursor = np.zeros(2, dtype=np.int64)
         self._scratch = np.empty((0, N_COLS))
 
     def _refill(self, n_obs: int) -> None:
-        need_n, need_u = draws_bound(n_obs, self._fidx)
+        bound = self._bounds.get(n_obs)
+        if bound is None:
+            bound = self._bounds[n_obs] = draws_bound(n_obs, self._fidx)
+        need_n, need_u = bound
         c = self._cursor
         if c[0] + need_n > len(self._normals) or c[1] + need_u > len(self._uniforms):
             size = max(_BUFFER, 4 * max(need_n, need_u))
@@ -184,9 +193,7 @@ class PerceptSynthesizer:
         n = scene.observers.shape[0]
         self._fconst[10] = scene.players_per_team
         self._refill(n)
-        points = int(self._fidx[G.CIRCLE] - self._fidx[G.POST])
-        lines = int(self._fidx[G.LINE + 1] - self._fidx[G.LINE])
-        max_rows = n * (16 + points + MAX_PIECES * lines + 3 * n)
+        max_rows = n * (16 + self._points + MAX_PIECES * self._lines + 3 * n)
         if self._scratch.shape[0] < max_rows:
             self._scratch = np.empty((max_rows, N_COLS))
         out = self._scratch
@@ -198,13 +205,13 @@ class PerceptSynthesizer:
         )  # fmt: skip
         out = out[:used].copy()  # compact: frames kept by a brain hold only their own rows
         result = []
-        obs = scene.observers
         specs = self._specs
+        sees, cameras = scene.observers[:, 9].tolist(), scene.observers[:, 7].tolist()
         for r in range(n):
-            if obs[r, 9] < 0.5:
+            if sees[r] < 0.5:
                 result.append(Percepts.empty(time))
             else:
-                result.append(Percepts(time, out, offsets[r], cam_rows[r], specs[int(obs[r, 7])]))
+                result.append(Percepts(time, out, offsets[r], cam_rows[r], specs[int(cameras[r])]))
         return result
 
 

@@ -190,6 +190,8 @@ class Referee:
         self.secs_remaining = params.half_seconds
         self.score = [0, 0]
         self.status: dict[RobotId, _RobotStatus] = {(r.team, r.number): _RobotStatus() for r in world.robots}
+        self._robot_status = [(r, self.status[(r.team, r.number)]) for r in world.robots]
+        """Every robot with its status record, in robot order."""
         self.counters = RefereeCounters()
         self.last_touch_team: int | None = None
         self.fouls = FoulDetector(world, field_map, params.fouls)
@@ -413,8 +415,7 @@ class Referee:
 
     def _end_carrying(self, now: float) -> None:
         """Put down the robots whose carry time is over (their ``picked_up`` signal goes off)."""
-        for r in self.world.robots:
-            st = self.status[(r.team, r.number)]
+        for r, st in self._robot_status:
             if st.carried_until >= 0 and now >= st.carried_until:
                 st.carried_until = -1.0
                 r.picked_up = False
@@ -443,11 +444,12 @@ class Referee:
         }
 
     def _all_legal_and_still(self) -> bool:
-        for team in (0, 1):
-            if illegal_kickoff_robots(self.field, self._team_positions(team), team == self.kicking_team):
-                return False
+        # the cheaper test first: while robots walk to their spots the first one moving decides
         for r in self.world.robots:
             if r.in_space and (r.is_fallen() or abs(r.body.velocity) > 0.03 or abs(r.body.angular_velocity) > 0.1):
+                return False
+        for team in (0, 1):
+            if illegal_kickoff_robots(self.field, self._team_positions(team), team == self.kicking_team):
                 return False
         return True
 
@@ -551,11 +553,8 @@ class Referee:
 
     # -- automatic penalties ---------------------------------------------------------------
     def _auto_penalties(self, now: float, events: Sequence[CollisionEvent]) -> None:
-        def team_pose(team: int, number: int) -> tuple[float, float, float]:
-            return self.team_pose(self.world.robot(team, number))
-
         check_stuck = self.state == GameStateId.PLAYING
-        for (team, number), code in self.fouls.detect(now, events, team_pose, check_stuck):
+        for (team, number), code in self.fouls.detect(now, events, check_stuck):
             self._foul(team, number, code, now)
 
     def _foul(self, team: int, number: int, code: int, now: float) -> None:
@@ -564,5 +563,5 @@ class Referee:
 
     def _update_penalty_timers(self, now: float) -> None:
         for (team, number), st in self.status.items():
-            if st.penalty != Penalty.NONE and now >= st.penalized_until:
+            if st.penalty and now >= st.penalized_until:  # penalised (Penalty.NONE is 0) and time is up
                 self.unpenalize(team, number, now)

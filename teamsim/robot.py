@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import ClassVar, Literal
 
 import numpy as np
 import pymunk
@@ -55,6 +55,12 @@ import pymunk
 from cognition.geometry import wrap_angle
 from cognition.representations import HeadRequest, HeadState, KickRequest, WalkRequest
 from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
+
+set_velocity = pymunk.Body.velocity.fset
+"""``Body.velocity``'s setter, called without the per-attribute ``__setattr__`` shim pymunk's
+bodies carry for type checkers (same effect, a third of the cost in the physics loop)."""
+set_angular_velocity = pymunk.Body.angular_velocity.fset
+"""``Body.angular_velocity``'s setter (see :data:`set_velocity`)."""
 
 COLLISION_ROBOT = 1
 COLLISION_BALL = 2
@@ -166,7 +172,11 @@ class Robot:
         self.in_space = False
         self.walk_target = WalkRequest()
         self.velocity = [0.0, 0.0, 0.0]  # executed walk speed (vx m/s, vy m/s, w rad/s), robot frame
-        self.head = HeadState()
+        self._head_joints: tuple[float, float, float, float, Literal["upper", "lower"]] = (0.0, 0.0, 0.0, 0.0, "upper")
+        """The head's (yaw rad, pitch rad, yaw rate rad/s, pitch rate rad/s, camera), advanced by
+        :meth:`_step_head` at the physics rate; :attr:`head` packs it when someone reads it."""
+        self._head: HeadState | None = HeadState()
+        """:attr:`head` as last packed (``None`` after the joints moved)."""
         self.head_target = HeadRequest()
         self.kick_request: KickRequest | None = None
         self.busy_until = 0.0  # kicking
@@ -187,8 +197,16 @@ class Robot:
         """The body's (x, y, angle) as pymunk holds it (angle not wrapped), read after every physics
         step and set by :meth:`teleport`: nothing else moves the body, so reading it once per step
         serves the walking engine, :attr:`pose` and the referee's many looks."""
-        self._pose = (0.0, 0.0, 0.0)
-        """``_body_pose`` with the angle wrapped (:attr:`pose`)."""
+        self._pose: tuple[float, float, float] | None = (0.0, 0.0, 0.0)
+        """``_body_pose`` with the angle wrapped (:attr:`pose`); ``None`` until first asked for after
+        the body moved (the walking engine and the foul checks need only ``_body_pose``)."""
+        self._step_rotation: tuple[float, float] | None = None
+        """cos and sin of the body angle at the start of the physics step in progress, computed by
+        :meth:`pre_step` and reused by :meth:`post_step` (the body does not turn in between);
+        ``None`` when pre_step did not need them."""
+        self._head_resting = False
+        """The head is at its clipped target with zero rates and reads the requested camera:
+        :meth:`_step_head` would change nothing until :meth:`command` sets a new target."""
 
     # -- placement -------------------------------------------------------------------------
     def add_to(self, space: pymunk.Space) -> None:
@@ -222,7 +240,26 @@ class Robot:
     @property
     def pose(self) -> tuple[float, float, float]:
         """World pose (x m, y m, theta rad wrapped)."""
-        return self._pose
+        pose = self._pose
+        if pose is None:
+            x, y, th = self._body_pose
+            pose = self._pose = (x, y, wrap_angle(th))
+        return pose
+
+    @property
+    def head(self) -> HeadState:
+        """Measured head joint angles and rates (relative to the torso) after the last physics step."""
+        head = self._head
+        if head is None:
+            yaw, pitch, yaw_rate, pitch_rate, camera = self._head_joints
+            head = self._head = HeadState(yaw=yaw, pitch=pitch, yaw_rate=yaw_rate, pitch_rate=pitch_rate, camera=camera)
+        return head
+
+    @property
+    def head_joints(self) -> tuple[float, float, float, float, Literal["upper", "lower"]]:
+        """The head's (yaw rad, pitch rad, yaw rate rad/s, pitch rate rad/s, camera read) now:
+        :attr:`head` unpacked, without building it."""
+        return self._head_joints
 
     @property
     def body_pose(self) -> tuple[float, float, float]:
@@ -230,11 +267,11 @@ class Robot:
         return self._body_pose
 
     def _read_body(self) -> None:
-        """Read the body's pose from pymunk into :attr:`_body_pose` and :attr:`pose`."""
-        p = self.body.position
-        th = self.body.angle
-        self._body_pose = (p.x, p.y, th)
-        self._pose = (p.x, p.y, wrap_angle(th))
+        """Read the body's pose from pymunk into :attr:`_body_pose` (:attr:`pose` follows on demand)."""
+        body = self.body
+        x, y = body.position
+        self._body_pose = (x, y, body.angle)
+        self._pose = None
 
     # -- commands --------------------------------------------------------------------------
     def command(self, walk: WalkRequest, kick: KickRequest | None, head: HeadRequest) -> None:
@@ -243,6 +280,7 @@ class Robot:
         self._target = self._clipped_target()
         self.head_target = head
         self._goal = self._head_goal()
+        self._head_resting = False
         if kick is not None and self.kick_request is None and self.can_walk_at_all():
             self.kick_request = kick
 
@@ -265,11 +303,26 @@ class Robot:
         return self.fallen_until
 
     def _clipped_target(self) -> tuple[float, float, float]:
+        """The walk target clipped to the speed limits per axis, then scaled into the limits'
+        ellipsoid (m/s, m/s, rad/s; robot frame)."""
         p = self.params
         w = self.walk_target
-        fwd = min(max(w.forward, -p.max_backward), p.max_forward)
-        left = min(max(w.left, -p.max_sideways), p.max_sideways)
-        turn = min(max(w.turn, -p.max_turn), p.max_turn)
+        # each axis min(max(value, low), high), written as comparisons
+        fwd = w.forward
+        if -p.max_backward > fwd:
+            fwd = -p.max_backward
+        if p.max_forward < fwd:
+            fwd = p.max_forward
+        left = w.left
+        if -p.max_sideways > left:
+            left = -p.max_sideways
+        if p.max_sideways < left:
+            left = p.max_sideways
+        turn = w.turn
+        if -p.max_turn > turn:
+            turn = -p.max_turn
+        if p.max_turn < turn:
+            turn = p.max_turn
         norm = math.sqrt(
             (fwd / (p.max_forward if fwd >= 0 else p.max_backward)) ** 2
             + (left / p.max_sideways) ** 2
@@ -280,46 +333,84 @@ class Robot:
 
     # -- per physics step ------------------------------------------------------------------
     def pre_step(self, now: float, dt: float) -> None:
-        """Advance the walking engine and head by ``dt`` and set the control body."""
-        self._step_head(dt)
+        """Advance the walking engine and head by ``dt`` (s) and set the control body.
+
+        The executed walk speed (robot frame) moves toward the clipped target by at most
+        ``max_linear_accel * dt`` (m/s) and ``max_angular_accel * dt`` (rad/s) per axis; the control
+        body gets that speed rotated into the world frame by the body angle at the start of the
+        step, and the planned motion integrates it in the robot frame.
+        """
+        if not self._head_resting:
+            self._step_head(dt)
         if not self.in_space:
             return
-        if self.fallen_until >= 0 and now >= self.fallen_until:
-            self.fallen_until = -1.0
+        fallen_until = self.fallen_until
+        if fallen_until >= 0 and now >= fallen_until:
+            self.fallen_until = fallen_until = -1.0
             self.fallen_since = -1.0
-        p = self.params
-        if self.picked_up or self.is_fallen():
+        if self.picked_up or fallen_until >= 0:
+            vx = vy = w = 0.0
             self.velocity = [0.0, 0.0, 0.0]
         else:
-            target = (0.0, 0.0, 0.0) if now < self.busy_until else self._target
+            p = self.params
+            tx, ty, tw = (0.0, 0.0, 0.0) if now < self.busy_until else self._target
             lin, ang = p.max_linear_accel * dt, p.max_angular_accel * dt
-            v = self.velocity
-            self.velocity = [
-                v[0] + min(lin, max(-lin, target[0] - v[0])),
-                v[1] + min(lin, max(-lin, target[1] - v[1])),
-                v[2] + min(ang, max(-ang, target[2] - v[2])),
-            ]
-        vx, vy, w = self.velocity
+            vx, vy, w = self.velocity
+            # each axis: v + min(limit, max(-limit, target - v)), written as comparisons
+            d = tx - vx
+            vx += lin if d > lin else (-lin if d < -lin else d)
+            d = ty - vy
+            vy += lin if d > lin else (-lin if d < -lin else d)
+            d = tw - w
+            w += ang if d > ang else (-ang if d < -ang else d)
+            self.velocity = [vx, vy, w]
+        last = self._control
+        if vx == 0.0 and vy == 0.0 and w == 0.0 and last == (0.0, 0.0, 0.0):
+            # Standing with a still control body: the rotated speed would compare equal to the
+            # last one sent (nothing to send), and adding zero motion leaves the planned motion
+            # as it is bit for bit (its components start at +0.0 and a sum is -0.0 only when
+            # both terms are).
+            self._step_rotation = None
+            return
         th = self._body_pose[2]
         c, s = math.cos(th), math.sin(th)
-        control = (c * vx - s * vy, s * vx + c * vy, w)
-        if control != self._control:
-            self.control.velocity = control[:2]
-            self.control.angular_velocity = w
-            self._control = control
-        self.planned = compose(self.planned, (vx * dt, vy * dt, w * dt))
+        self._step_rotation = (c, s)
+        cvx, cvy = c * vx - s * vy, s * vx + c * vy
+        if cvx != last[0] or cvy != last[1] or w != last[2]:
+            # A kinematic body keeps its velocity (the solver adds at most a zero to it), so a
+            # non-zero value equal to the last one sent is already there bit for bit; zeros are
+            # sent again, as they may differ in sign.
+            if cvx != last[0] or cvy != last[1] or cvx == 0.0 or cvy == 0.0:
+                set_velocity(self.control, (cvx, cvy))
+            if w != last[2] or w == 0.0:
+                set_angular_velocity(self.control, w)
+            self._control = (cvx, cvy, w)
+        # planned = compose(planned, (vx dt, vy dt, w dt)), inlined
+        px, py, pth = self.planned
+        pc, ps = math.cos(pth), math.sin(pth)
+        dx, dy = vx * dt, vy * dt
+        self.planned = (px + pc * dx - ps * dy, py + ps * dx + pc * dy, pth + w * dt)
 
     def post_step(self) -> None:
-        """Accumulate the true body motion of the step just simulated."""
+        """Accumulate the true body motion of the step just simulated (after :meth:`pre_step`)."""
         if not self.in_space:
             return
         x0, y0, th0 = self._body_pose
-        self._read_body()
-        x1, y1, th1 = self._body_pose
-        c, s = math.cos(th0), math.sin(th0)
+        body = self.body
+        x1, y1 = body.position
+        th1 = body.angle
+        self._body_pose = (x1, y1, th1)  # as _read_body
+        self._pose = None
+        if x1 == x0 and y1 == y0 and th1 == th0:
+            return  # adding zero motion leaves the true motion as it is (see pre_step)
+        rotation = self._step_rotation
+        c, s = (math.cos(th0), math.sin(th0)) if rotation is None else rotation
         dxw, dyw = x1 - x0, y1 - y0
-        local = (c * dxw + s * dyw, -s * dxw + c * dyw, th1 - th0)
-        self.true_motion = compose(self.true_motion, local)
+        lx, ly = c * dxw + s * dyw, -s * dxw + c * dyw
+        # true_motion = compose(true_motion, (lx, ly, th1 - th0)), inlined
+        ax, ay, ath = self.true_motion
+        ac, as_ = math.cos(ath), math.sin(ath)
+        self.true_motion = (ax + ac * lx - as_ * ly, ay + as_ * lx + ac * ly, ath + (th1 - th0))
 
     def take_motion(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
         """Return and reset (planned, true) motion since the last call, robot frame."""
@@ -332,27 +423,46 @@ class Robot:
         """The head target's (yaw rad, pitch rad, speed rad/s) clipped to the joint limits."""
         p = self.params
         t = self.head_target
-        ty = min(max(t.yaw, -p.head_yaw_limit), p.head_yaw_limit)
-        tp = min(max(t.pitch, p.head_pitch_min), p.head_pitch_max)
-        return (ty, tp, min(t.speed, p.head_max_speed))
+        # min(max(value, low), high) and min(speed, high), written as comparisons
+        ty = t.yaw
+        if -p.head_yaw_limit > ty:
+            ty = -p.head_yaw_limit
+        if p.head_yaw_limit < ty:
+            ty = p.head_yaw_limit
+        tp = t.pitch
+        if p.head_pitch_min > tp:
+            tp = p.head_pitch_min
+        if p.head_pitch_max < tp:
+            tp = p.head_pitch_max
+        speed = t.speed
+        if p.head_max_speed < speed:
+            speed = p.head_max_speed
+        return (ty, tp, speed)
 
     def _step_head(self, dt: float) -> None:
-        h = self.head
+        """Move the head joints toward the clipped target by at most ``speed * dt`` (rad) each."""
+        yaw, pitch, yaw_rate, pitch_rate, camera_now = self._head_joints
         ty, tp, speed = self._goal
         camera = self.head_target.camera
-        if ty == h.yaw and tp == h.pitch and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == camera:
-            return  # resting at the target
-        dy = min(max(ty - h.yaw, -speed * dt), speed * dt)
-        dp = min(max(tp - h.pitch, -speed * dt), speed * dt)
-        if dy == 0.0 and dp == 0.0 and h.yaw_rate == 0.0 and h.pitch_rate == 0.0 and h.camera == camera:
+        if ty == yaw and tp == pitch and yaw_rate == 0.0 and pitch_rate == 0.0 and camera_now == camera:
+            self._head_resting = True  # until the next command
             return
-        self.head = HeadState(
-            yaw=h.yaw + dy,
-            pitch=h.pitch + dp,
-            yaw_rate=dy / dt,
-            pitch_rate=dp / dt,
-            camera=camera,
-        )
+        reach = speed * dt
+        # min(max(target - angle, -reach), reach), written as comparisons
+        dy = ty - yaw
+        if -reach > dy:
+            dy = -reach
+        if reach < dy:
+            dy = reach
+        dp = tp - pitch
+        if -reach > dp:
+            dp = -reach
+        if reach < dp:
+            dp = reach
+        if dy == 0.0 and dp == 0.0 and yaw_rate == 0.0 and pitch_rate == 0.0 and camera_now == camera:
+            return
+        self._head_joints = (yaw + dy, pitch + dp, dy / dt, dp / dt, camera)
+        self._head = None
 
     def try_kick(self, now: float, ball: pymunk.Body, ball_radius: float) -> bool:
         """Execute a pending kick; returns True if the ball was struck."""

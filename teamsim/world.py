@@ -3,7 +3,9 @@
 The space has no gravity (top-down 2D). Static shapes: the outer border of the carpet
 (field plus border strip), the goal posts and the goal nets (sides and back). The ball is a
 light dynamic circle whose rolling friction is a constant deceleration applied in its
-velocity function. Robots are :class:`teamsim.robot.Robot` bodies.
+velocity function (while the ball rests, pymunk's own integrator runs instead: for a ball
+without speed and spin both give the same result). Robots are :class:`teamsim.robot.Robot`
+bodies.
 
 Collision handlers only *record* :class:`CollisionEvent` objects; :meth:`World.step` then
 turns hard impacts into falls, and the referee reads the events for pushing evidence.
@@ -41,6 +43,8 @@ from teamsim.robot import (
     COLLISION_WALL,
     Robot,
     RobotParams,
+    set_angular_velocity,
+    set_velocity,
 )
 from teamsim.state import RobotTruth, WorldSnapshot
 
@@ -112,7 +116,13 @@ class World:
         self._add_statics()
         self.ball_radius = field_map.dims.ball_diameter / 2.0
         self.ball = pymunk.Body(params.ball_mass, pymunk.moment_for_circle(params.ball_mass, 0, self.ball_radius))
+        self._rolling_decel = params.ball_rolling_decel
         self.ball.velocity_func = self._ball_velocity
+        self._ball_integrator_c = False
+        """Whether pymunk's own velocity integrator runs for the ball (only while it is at rest,
+        :meth:`_choose_ball_integrator`) instead of :meth:`_ball_velocity`."""
+        self._ball_may_rest = True
+        """The ball may have come to rest since the integrator was last chosen."""
         self.ball_shape = pymunk.Circle(self.ball, self.ball_radius)
         self.ball_shape.collision_type = COLLISION_BALL
         self.ball_shape.elasticity = params.ball_elasticity
@@ -165,13 +175,38 @@ class World:
         self.space.add(*shapes)
 
     def _ball_velocity(self, body: pymunk.Body, gravity: Any, damping: float, dt: float) -> None:
+        """pymunk's velocity integration of the ball (no damping), then the rolling friction:
+        the speed drops by ``ball_rolling_decel * dt`` (m/s, not below 0) and the spin is zeroed."""
         pymunk.Body.update_velocity(body, gravity, 1.0, dt)
         vx, vy = body.velocity
         speed = math.hypot(vx, vy)
         if speed > 0.0:
-            new = max(0.0, speed - self.params.ball_rolling_decel * dt)
-            body.velocity = (vx * new / speed, vy * new / speed)
-        body.angular_velocity = 0.0
+            new = speed - self._rolling_decel * dt
+            if new < 0.0:  # max(0.0, new)
+                new = 0.0
+            set_velocity(body, (vx * new / speed, vy * new / speed))
+        set_angular_velocity(body, 0.0)
+        if speed == 0.0 or new == 0.0:
+            self._ball_may_rest = True
+
+    def _choose_ball_integrator(self) -> None:
+        """Before a sub-step: pymunk's own velocity integrator while the ball is at rest, else
+        :meth:`_ball_velocity`.
+
+        For a ball without speed and spin, :meth:`_ball_velocity` does exactly what pymunk's
+        integrator does (the same ``cpBodyUpdateVelocity`` call: no forces act on the ball, the
+        space has neither gravity nor damping; the speed stays 0, the spin 0), so the Python
+        callback runs only while the ball moves. The state is read before every sub-step in
+        which the C integrator would run, so contacts, kicks and placements that set the ball
+        moving switch back at once.
+        """
+        ball = self.ball
+        vx, vy = ball.velocity
+        rest = vx == 0.0 and vy == 0.0 and ball.angular_velocity == 0.0
+        if rest != self._ball_integrator_c:
+            ball.velocity_func = pymunk.Body.update_velocity if rest else self._ball_velocity
+            self._ball_integrator_c = rest
+        self._ball_may_rest = False
 
     def _install_handlers(self) -> None:
         self.space.on_collision(COLLISION_ROBOT, COLLISION_ROBOT, begin=self._rr_contact, pre_solve=self._rr_contact)
@@ -235,26 +270,34 @@ class World:
             raise ValueError(f"ball placement must be finite, got {(x, y, vx, vy)}")
         self.ball.position = (x, y)
         self.ball.velocity = (vx, vy)
+        self._ball_may_rest = True
         self.space.reindex_shapes_for_body(self.ball)
 
     # -- stepping --------------------------------------------------------------------------
     def step(self, now: float) -> list[CollisionEvent]:
         """Advance the world by one physics step starting at time ``now`` (s)."""
         self._now = now
-        self._events = []
+        events: list[CollisionEvent] = []
+        self._events = events
         dt = self.dt
-        for robot in self.robots:
+        robots = self.robots
+        for robot in robots:
             robot.pre_step(now, dt)
-        sub = dt / self.params.substeps
-        for _ in range(self.params.substeps):
-            self.space.step(sub)
-        for robot in self.robots:
+        substeps = self.params.substeps
+        sub = dt / substeps
+        space = self.space
+        for _ in range(substeps):
+            if self._ball_integrator_c or self._ball_may_rest:
+                self._choose_ball_integrator()
+            space.step(sub)
+        for robot in robots:
             robot.post_step()
-            if robot.try_kick(now, self.ball, self.ball_radius):
+            if robot.kick_request is not None and robot.try_kick(now, self.ball, self.ball_radius):
                 speed = abs(self.ball.velocity)
-                self._events.append(CollisionEvent(now, "robot_kick", (robot.team, robot.number), None, True, speed))
-        self._apply_falls(now)
-        return self._events
+                events.append(CollisionEvent(now, "robot_kick", (robot.team, robot.number), None, True, speed))
+        if events:
+            self._apply_falls(now)
+        return events
 
     def _apply_falls(self, now: float) -> None:
         p = self.params.robot
