@@ -58,6 +58,7 @@ row ranges inside the table, in :class:`Kind` order.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import IntEnum
 from typing import Any
@@ -315,14 +316,38 @@ def _first_invalid_nb(rows, offsets, subtype_max):  # pragma: no cover - compile
     return -1, -1, -1
 
 
-def _check(
-    time: float,
-    rows: NDArray[np.float64],
-    offsets: NDArray[np.int64],
-    camera_row: NDArray[np.float64] | None,
-    spec: CameraSpec | None,
-) -> None:
-    """Raise :class:`PerceptError` unless the arguments of :class:`Percepts` are usable."""
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def _first_invalid_many_nb(rows, offsets, camera_rows, has_camera, subtype_max):  # pragma: no cover - compiled
+    """The checks of :func:`_check` on the rows, offsets and camera rows of many images that
+    share one row table (``offsets``: one row per image), for the images that were taken
+    (``has_camera``; the others are empty percepts, their rows unused). Returns (image, what,
+    row, column, rule): what 0 = bad offsets, 1 = a non-finite camera row, 2 = an invalid row
+    (``row``, ``column``, ``rule`` as in :func:`_first_invalid_nb`); image -1 when all is valid."""
+    for i in range(offsets.shape[0]):
+        if not has_camera[i]:
+            continue
+        if not _offsets_ok_nb(offsets[i], rows.shape[0]):
+            return i, 0, -1, -1, -1
+        if not _all_finite_nb(camera_rows[i]):
+            return i, 1, -1, -1, -1
+        r, c, rule = _first_invalid_nb(rows, offsets[i], subtype_max)
+        if r >= 0:
+            return i, 2, r, c, rule
+    return -1, -1, -1, -1, -1
+
+
+def _row_error(rows: NDArray[np.float64], offsets: NDArray[np.int64], r: int, c: int, rule: int) -> str:
+    """The message of an invalid entry ``rows[r, c]`` (rule: index into :data:`_RULES`)."""
+    kind = Kind(int(np.searchsorted(offsets, r, side="right") - 1))
+    text = _RULES[rule].format(top=int(_SUBTYPE_MAX[kind]))
+    return (
+        f"Percepts row {r - int(offsets[0])} ({kind.name} #{r - int(offsets[kind])}): "
+        f"{Col(c).name.lower()} {text}, got {float(rows[r, c])!r}"
+    )
+
+
+def _check_table(time: float, rows: NDArray[np.float64]) -> None:
+    """Raise :class:`PerceptError` unless ``time`` is a finite number and ``rows`` a row table."""
     if type(time) is not float and (
         isinstance(time, bool) or not isinstance(time, int | float | np.floating | np.integer)
     ):  # (the common case, a Python float, skips the slow isinstance on a union)
@@ -332,6 +357,17 @@ def _check(
     if not isinstance(rows, np.ndarray) or rows.dtype != np.float64 or rows.ndim != 2 or rows.shape[1] != N_COLS:
         got = f"{rows.dtype} array of shape {rows.shape}" if isinstance(rows, np.ndarray) else type(rows).__name__
         raise PerceptError(f"Percepts rows must be a float64 array of shape (n, {N_COLS}), got {got}")
+
+
+def _check(
+    time: float,
+    rows: NDArray[np.float64],
+    offsets: NDArray[np.int64],
+    camera_row: NDArray[np.float64] | None,
+    spec: CameraSpec | None,
+) -> None:
+    """Raise :class:`PerceptError` unless the arguments of :class:`Percepts` are usable."""
+    _check_table(time, rows)
     if (
         not isinstance(offsets, np.ndarray)
         or offsets.dtype.kind not in "iu"
@@ -352,12 +388,7 @@ def _check(
             raise PerceptError(f"Percepts camera spec must be a CameraSpec, got {type(spec).__name__}")
     r, c, rule = _first_invalid_nb(rows, offsets.astype(np.int64, copy=False), _SUBTYPE_MAX)
     if r >= 0:
-        kind = Kind(int(np.searchsorted(offsets, r, side="right") - 1))
-        text = _RULES[rule].format(top=int(_SUBTYPE_MAX[kind]))
-        raise PerceptError(
-            f"Percepts row {r - int(offsets[0])} ({kind.name} #{r - int(offsets[kind])}): "
-            f"{Col(c).name.lower()} {text}, got {float(rows[r, c])!r}"
-        )
+        raise PerceptError(_row_error(rows, offsets, r, c, rule))
 
 
 class Percepts:
@@ -409,6 +440,49 @@ class Percepts:
         self.time, self._rows, self._offsets, self._camera_row, self._spec = time, rows, offsets, camera_row, spec
         self._camera = None
         return self
+
+    @classmethod
+    def many(
+        cls,
+        time: float,
+        rows: NDArray[np.float64],
+        offsets: NDArray[np.int64],
+        camera_rows: NDArray[np.float64],
+        specs: Sequence[CameraSpec | None],
+    ) -> list[Percepts]:
+        """The percepts of many images whose rows share one table: image ``i`` has the kinds of
+        ``offsets[i]`` (``offsets``: one row of N_KINDS + 1 per image), the camera row
+        ``camera_rows[i]`` and the camera ``specs[i]``; a spec of ``None`` gives
+        :meth:`empty` percepts (no image). The constructor's checks run once for all images, in
+        one compiled pass (a percept synthesizer's frame of every robot), and a failure is a
+        :class:`PerceptError` that names the image."""
+        n = len(specs)
+        if not isinstance(offsets, np.ndarray) or offsets.dtype != np.int64 or offsets.shape != (n, N_KINDS + 1):
+            raise PerceptError(f"Percepts.many offsets must be an int64 array of shape ({n}, {N_KINDS + 1})")
+        if (
+            not isinstance(camera_rows, np.ndarray)
+            or camera_rows.dtype != np.float64
+            or camera_rows.shape != (n, CAMERA_ROW_SIZE)
+        ):
+            raise PerceptError(f"Percepts.many camera rows must be a float64 array of shape ({n}, {CAMERA_ROW_SIZE})")
+        has = np.array([spec is not None for spec in specs], dtype=np.bool_)
+        for i, spec in enumerate(specs):
+            if spec is not None and type(spec) is not CameraSpec:
+                raise PerceptError(f"Percepts.many image {i}: camera spec must be a CameraSpec, got {spec!r}")
+        _check_table(time, rows)
+        i, what, r, c, rule = _first_invalid_many_nb(rows, offsets, camera_rows, has, _SUBTYPE_MAX)
+        if i >= 0:
+            if what == 0:
+                problem = f"offsets {offsets[i]!r} are not {N_KINDS + 1} non-decreasing integers within the rows"
+            elif what == 1:
+                problem = f"camera row must hold {CAMERA_ROW_SIZE} finite numbers, got {camera_rows[i]!r}"
+            else:
+                problem = _row_error(rows, offsets[i], r, c, rule)
+            raise PerceptError(f"Percepts.many image {i}: {problem}")
+        return [
+            cls.empty(time) if spec is None else cls.of_checked_rows(time, rows, offsets[i], camera_rows[i], spec)
+            for i, spec in enumerate(specs)
+        ]
 
     @property
     def camera(self) -> CameraMatrix | None:

@@ -204,15 +204,10 @@ class PerceptSynthesizer:
             self._prm, self._normals, self._uniforms, self._cursor, out, offsets, cam_rows,
         )  # fmt: skip
         out = out[:used].copy()  # compact: frames kept by a brain hold only their own rows
-        result = []
         specs = self._specs
         sees, cameras = scene.observers[:, 9].tolist(), scene.observers[:, 7].tolist()
-        for r in range(n):
-            if sees[r] < 0.5:
-                result.append(Percepts.empty(time))
-            else:
-                result.append(Percepts(time, out, offsets[r], cam_rows[r], specs[int(cameras[r])]))
-        return result
+        taken = [specs[int(cameras[r])] if sees[r] >= 0.5 else None for r in range(n)]  # None: no image
+        return Percepts.many(time, out, offsets, cam_rows, taken)  # every robot's checks in one compiled pass
 
 
 def _camera_columns(rig: CameraRig, name: str) -> list[float]:

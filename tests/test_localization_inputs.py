@@ -17,6 +17,7 @@ import pytest
 from test_localization import SPL, errors, record, run
 
 from cognition.brain import Brain, BrainContext
+from cognition.camera import CAMERA_ROW_SIZE, NAO_UPPER
 from cognition.field import make_field
 from cognition.localization import VARIANTS, make_localizer
 from cognition.localization import particle_filter as pf
@@ -158,6 +159,60 @@ def test_percepts_with_a_bad_shape_or_type_are_refused(args: dict, words: str) -
     with pytest.raises(PerceptError) as err:
         Percepts(**kw)
     assert words in str(err.value)
+
+
+def _many_args() -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
+    """Three images sharing one table: image 0 and 2 hold every kind once, image 1 took no
+    picture (its offsets and camera row are garbage and must not be looked at)."""
+    rows, offsets = _valid_rows()
+    table = np.vstack([rows, rows])
+    spec = NAO_UPPER
+    cam = np.concatenate([np.eye(3).ravel(), [0.0, 0.0, 0.5], np.zeros(CAMERA_ROW_SIZE - 12)])
+    offs = np.stack([offsets, np.full(N_KINDS + 1, -7), offsets + N_KINDS])
+    cams = np.stack([cam, np.full(CAMERA_ROW_SIZE, np.nan), cam])
+    return table, offs, cams, [spec, None, spec]
+
+
+def test_many_images_sharing_a_table_equal_one_by_one_construction() -> None:
+    table, offs, cams, specs = _many_args()
+    many = Percepts.many(2.5, table, offs, cams, specs)
+    assert len(many) == 3 and len(many[1]) == 0 and many[1].camera is None
+    for i in (0, 2):
+        one = Percepts(2.5, table, offs[i], cams[i], specs[i])
+        assert many[i].time == one.time and np.array_equal(many[i].rows, one.rows, equal_nan=True)
+        assert np.array_equal(many[i].camera.position, one.camera.position)
+        assert [many[i].count(k) for k in Kind] == [one.count(k) for k in Kind]
+
+
+@pytest.mark.parametrize(
+    ("spoil", "words"),
+    [
+        (
+            lambda t, o, c: t.__setitem__((N_KINDS + Kind.CROSS, Col.SUBTYPE), 7.0),
+            "image 2: Percepts row 1 (CROSS #0): subtype must be an integer in 0..2, got 7.0",
+        ),
+        (lambda t, o, c: o.__setitem__((2, 3), 0), "image 2: offsets"),
+        (lambda t, o, c: c.__setitem__((0, 4), np.inf), "image 0: camera row must hold"),
+    ],
+)
+def test_many_images_with_a_bad_one_are_refused_naming_it(spoil, words: str) -> None:
+    table, offs, cams, specs = _many_args()
+    spoil(table, offs, cams)
+    with pytest.raises(PerceptError) as err:
+        Percepts.many(2.5, table, offs, cams, specs)
+    assert words in str(err.value)
+
+
+def test_many_images_with_bad_shapes_or_specs_are_refused() -> None:
+    table, offs, cams, specs = _many_args()
+    with pytest.raises(PerceptError, match="offsets must be an int64 array of shape"):
+        Percepts.many(2.5, table, offs[:2], cams, specs)
+    with pytest.raises(PerceptError, match="camera rows must be a float64 array of shape"):
+        Percepts.many(2.5, table, offs, cams.astype(np.float32), specs)
+    with pytest.raises(PerceptError, match="image 1: camera spec must be a CameraSpec"):
+        Percepts.many(2.5, table, offs, cams, [specs[0], "upper", specs[2]])
+    with pytest.raises(PerceptError, match=r"Percepts\.time must be a finite number"):
+        Percepts.many(math.inf, table, offs, cams, specs)
 
 
 def test_the_simulators_percepts_pass_their_own_checks_in_a_harsh_match() -> None:
