@@ -98,7 +98,7 @@ class ObservationBuilder:
         if b.goal is not None:
             o[24], o[25], o[26] = b.goal.confidence, b.goal.centre_x * inv_l, b.goal.centre_y * inv_l
         g = b.game
-        o[_STATES.get(GameStateId(g.state), 27)] = 1.0
+        o[_STATES.get(g.state, 27)] = 1.0  # IntEnum keys: a plain int state finds them
         o[32] = float(g.kicking_team == self.team_number)
         o[33] = float(g.set_play != 0)
         o[34] = g.secondary_time / 30.0
@@ -127,5 +127,6 @@ class ObservationBuilder:
         out = np.array(o, dtype=np.float32)
         if not np.isfinite(out).all():  # rare: a belief without a value reads as 0
             np.nan_to_num(out, copy=False, nan=0.0, posinf=1.0, neginf=-1.0)
-        np.clip(out, -1.0, 1.0, out=out)
+        np.minimum(out, 1.0, out=out)  # clip to [-1, 1] (np.clip costs several times more on a short vector)
+        np.maximum(out, -1.0, out=out)
         return out
