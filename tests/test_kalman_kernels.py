@@ -162,7 +162,9 @@ def reference_publish(x, p, pose, limits):
                 fy, vy = math.copysign(limits[1], fy), 0.0
             dx, dy = fx - pose[0], fy - pose[1]
             x = np.array([c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy])
-    if not math.isfinite(float(x.sum() + p.sum())):
+    with np.errstate(invalid="ignore"):  # inf - inf in the sum: not finite, as intended
+        total = float(x.sum() + p.sum())
+    if not math.isfinite(total):
         return x, None
     sd = math.sqrt(max(0.0, 0.5 * float(p[0, 0] + p[1, 1])))
     fx = fy = math.nan

@@ -111,9 +111,9 @@ class _SpyBrain(ScriptedBrain):
         localizer = self.provider.localizer  # type: ignore[union-attr]
         update = localizer.update
 
-        def spy(frame: SensorFrame, truth: tuple[float, float, float] | None = None) -> RobotPose:
+        def spy(frame: SensorFrame, truth: tuple[float, float, float] | None = None, **kw: bool) -> RobotPose:
             self.truths.append(truth)
-            pose = update(frame, truth)
+            pose = update(frame, truth, **kw)
             self.estimates.append(pose.pose)
             return pose
 
