@@ -28,7 +28,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.field import Field
-from cognition.percepts import _SUBTYPE_MAX, N_COLS, _first_invalid_nb
+from cognition.percept_checks import _SUBTYPE_MAX, _first_invalid_nb
+from cognition.percepts import N_COLS
 from cognition.vision import assemble as asm
 from cognition.vision.ball import _detect_ball_nb
 from cognition.vision.ball import _vector as ball_vector
