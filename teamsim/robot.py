@@ -307,22 +307,9 @@ class Robot:
         ellipsoid (m/s, m/s, rad/s; robot frame)."""
         p = self.params
         w = self.walk_target
-        # each axis min(max(value, low), high), written as comparisons
-        fwd = w.forward
-        if -p.max_backward > fwd:
-            fwd = -p.max_backward
-        if p.max_forward < fwd:
-            fwd = p.max_forward
-        left = w.left
-        if -p.max_sideways > left:
-            left = -p.max_sideways
-        if p.max_sideways < left:
-            left = p.max_sideways
-        turn = w.turn
-        if -p.max_turn > turn:
-            turn = -p.max_turn
-        if p.max_turn < turn:
-            turn = p.max_turn
+        fwd = min(max(w.forward, -p.max_backward), p.max_forward)
+        left = min(max(w.left, -p.max_sideways), p.max_sideways)
+        turn = min(max(w.turn, -p.max_turn), p.max_turn)
         norm = math.sqrt(
             (fwd / (p.max_forward if fwd >= 0 else p.max_backward)) ** 2
             + (left / p.max_sideways) ** 2
@@ -423,21 +410,9 @@ class Robot:
         """The head target's (yaw rad, pitch rad, speed rad/s) clipped to the joint limits."""
         p = self.params
         t = self.head_target
-        # min(max(value, low), high) and min(speed, high), written as comparisons
-        ty = t.yaw
-        if -p.head_yaw_limit > ty:
-            ty = -p.head_yaw_limit
-        if p.head_yaw_limit < ty:
-            ty = p.head_yaw_limit
-        tp = t.pitch
-        if p.head_pitch_min > tp:
-            tp = p.head_pitch_min
-        if p.head_pitch_max < tp:
-            tp = p.head_pitch_max
-        speed = t.speed
-        if p.head_max_speed < speed:
-            speed = p.head_max_speed
-        return (ty, tp, speed)
+        ty = min(max(t.yaw, -p.head_yaw_limit), p.head_yaw_limit)
+        tp = min(max(t.pitch, p.head_pitch_min), p.head_pitch_max)
+        return (ty, tp, min(t.speed, p.head_max_speed))
 
     def _step_head(self, dt: float) -> None:
         """Move the head joints toward the clipped target by at most ``speed * dt`` (rad) each."""
