@@ -58,7 +58,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from functools import partial
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -244,10 +243,7 @@ class PolicyBrain:
         self._stage_runs = {"policy action": self._act_stage}
         """What each stage calls: the cognition stack's modules on its blackboard, then the action."""
         if isinstance(self.provider, CognitionBeliefs):
-            board = self.provider.board
-            modules = self.provider.modules
-            self._stage_runs = {stage: partial(modules[stage].run, board) for stage in self.provider.stages}
-            self._stage_runs["policy action"] = self._act_stage
+            self._stage_runs = {**self.provider.stage_calls(), "policy action": self._act_stage}
         self._stages = tuple(self._stage_runs)
 
     def rejected_inputs(self) -> dict[str, int]:

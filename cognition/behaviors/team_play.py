@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from functools import partial
 from typing import ClassVar
 
 from cognition.behaviors.head_control import HeadControl, HeadParams
@@ -125,10 +124,7 @@ class ScriptedBrain:
         self.role = Role.NONE
         self.state = "stand"
         self._last_message = -1e9
-        board = self.provider.board
-        self._stage_runs: dict[str, Callable[[], None]] = {
-            stage: partial(module.run, board) for stage, module in self.provider.modules.items()
-        }
+        self._stage_runs: dict[str, Callable[[], None]] = self.provider.stage_calls()
         """What each stage calls: the cognition frame's modules on its blackboard, then ours."""
         self._stage_runs.update({"behaviour": self._behave, "team message out": self._message_out})
         self._stages = self.provider.stages + self.BEHAVIOUR_STAGES

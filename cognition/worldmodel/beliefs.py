@@ -33,6 +33,8 @@ frame** (m, +x forward, +y left).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import partial
 from typing import TypeVar
 
 import numpy as np
@@ -193,6 +195,12 @@ class CognitionBeliefs:
     def run_stage(self, stage: str) -> None:
         """Run the module ``stage`` (one of :attr:`stages`, in order) on the current frame."""
         self.modules[stage].run(self.board)
+
+    def stage_calls(self) -> dict[str, Callable[[], None]]:
+        """Each stage of :attr:`stages`, in order, as a call without arguments: its module's
+        ``run`` bound to the blackboard (what :meth:`run_stage` does, without looking it up),
+        for brains that run the stages themselves."""
+        return {stage: partial(self.modules[stage].run, self.board) for stage in self.stages}
 
     def finish(self) -> Beliefs:
         """The beliefs of the frame (after the last stage)."""
