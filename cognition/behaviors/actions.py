@@ -245,6 +245,7 @@ class PolicyBrain:
         if isinstance(self.provider, CognitionBeliefs):
             self._stage_runs = {**self.provider.stage_calls(), "policy action": self._act_stage}
         self._stages = tuple(self._stage_runs)
+        self._runs = tuple(self._stage_runs.values())
 
     def rejected_inputs(self) -> dict[str, int]:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
@@ -271,6 +272,10 @@ class PolicyBrain:
     def run_stage(self, stage: str) -> None:
         """Run one stage of :attr:`stages`: a module of the cognition stack, or the action."""
         self._stage_runs[stage]()
+
+    def stage_runs(self) -> tuple[Callable[[], None], ...]:
+        """The stages of :attr:`stages` as calls without arguments, in order (:func:`~cognition.brain.stage_runs`)."""
+        return self._runs
 
     def _act_stage(self) -> None:
         self._output = self._carry_out()

@@ -128,6 +128,7 @@ class ScriptedBrain:
         """What each stage calls: the cognition frame's modules on its blackboard, then ours."""
         self._stage_runs.update({"behaviour": self._behave, "team message out": self._message_out})
         self._stages = self.provider.stages + self.BEHAVIOUR_STAGES
+        self._runs = tuple(self._stage_runs[stage] for stage in self._stages)
 
     def rejected_inputs(self) -> dict[str, int]:
         """Sensor inputs the cognition stack could not use, by kind (none on truth beliefs)."""
@@ -158,6 +159,10 @@ class ScriptedBrain:
     def run_stage(self, stage: str) -> None:
         """Run the module ``stage`` of :attr:`stages` on the current frame."""
         self._stage_runs[stage]()
+
+    def stage_runs(self) -> tuple[Callable[[], None], ...]:
+        """The stages of :attr:`stages` as calls without arguments, in order (:func:`~cognition.brain.stage_runs`)."""
+        return self._runs
 
     def finish(self) -> BrainOutput:
         """The motion request and team message of the frame."""
