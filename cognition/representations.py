@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -122,11 +121,16 @@ class SensorFrame:
     image: CameraImage | None = None
     """The latest camera image (image observation path), or ``None``."""
 
-    @cached_property
+    @property
     def penalty(self) -> int:
-        """Own penalty code from the game state (0 when playing; looked up once per frame,
-        which the localization, the beliefs and the behaviours all read)."""
-        return int(self.game.team(self.team_number).players[self.player_number - 1].penalty)
+        """Own penalty code from the game state (0 when playing). Looked up once per frame: the
+        localization, the beliefs and the behaviours all read it (``functools.cached_property``
+        takes a lock on every first read, which costs more than the lookup)."""
+        cached = self.__dict__.get("_penalty")
+        if cached is None:
+            cached = int(self.game.team(self.team_number).players[self.player_number - 1].penalty)
+            self.__dict__["_penalty"] = cached  # not a field: equality, repr and replace() ignore it
+        return cached
 
 
 @dataclass(frozen=True)
