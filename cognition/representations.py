@@ -250,7 +250,8 @@ class RobotPose:
     @property
     def position_std(self) -> float:
         """sqrt of the trace of the position covariance (m)."""
-        return float(np.sqrt(max(0.0, self.covariance[0, 0] + self.covariance[1, 1])))
+        c = self.covariance
+        return math.sqrt(max(0.0, float(c[0, 0] + c[1, 1])))  # IEEE sqrt: the same bits as np.sqrt
 
 
 BallLevel = Literal["valid", "suspicious", "invalid"]

@@ -463,7 +463,7 @@ class Skills:
         """The beliefs' obstacles (robot frame) as plain tuples (cached per beliefs)."""
         if self._cached is not b:
             self._cached = b
-            self._obstacles = [(float(x), float(y)) for x, y in b.obstacles.tolist()]
+            self._obstacles = [(x, y) for x, y in b.obstacles.tolist()]  # tolist() gives Python floats
         return self._obstacles
 
     def _walk(
