@@ -10,7 +10,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from cognition.records import fast_init
 
+
+@fast_init
 @dataclass(frozen=True)
 class OraclePose:
     """A robot's true pose in the receiver's team frame."""
@@ -28,6 +31,7 @@ class OraclePose:
     fallen: bool = False
 
 
+@fast_init
 @dataclass(frozen=True)
 class OracleInput:
     """Ground truth for an oracle brain (team frame of the receiving robot)."""

@@ -44,8 +44,10 @@ from cognition.camera import CameraImage
 from cognition.gamestate import TEAM_MESSAGE_MAX_BYTES, GameControlData
 from cognition.params import check_finite
 from cognition.percepts import Percepts
+from cognition.records import fast_init
 
 
+@fast_init
 @dataclass(frozen=True)
 class OdometryReading:
     """Reported own motion since the previous cognition frame.
@@ -60,6 +62,7 @@ class OdometryReading:
     dtheta: float = 0.0
 
 
+@fast_init
 @dataclass(frozen=True)
 class HeadState:
     """Measured head joint angles and rates (relative to the torso)."""
@@ -76,6 +79,7 @@ class HeadState:
     """The camera read in this frame."""
 
 
+@fast_init
 @dataclass(frozen=True)
 class TeamMessageIn:
     """A team message as a robot receives it."""
@@ -88,6 +92,7 @@ class TeamMessageIn:
     """Game time when it was sent (s since match start)."""
 
 
+@fast_init
 @dataclass(frozen=True)
 class SensorFrame:
     """Everything one robot senses in one cognition frame.
@@ -133,6 +138,7 @@ class SensorFrame:
         return cached
 
 
+@fast_init
 @dataclass(frozen=True)
 class WalkRequest:
     """Walk command in the robot frame; the walking engine clips it to its limits."""
@@ -148,6 +154,7 @@ class WalkRequest:
         check_finite("WalkRequest", forward=self.forward, left=self.left, turn=self.turn)
 
 
+@fast_init
 @dataclass(frozen=True)
 class KickRequest:
     """A kick of the ball in front of the feet."""
@@ -163,6 +170,7 @@ class KickRequest:
             raise ValueError(f"KickRequest.strength must be in [0, 1], got {self.strength}")
 
 
+@fast_init
 @dataclass(frozen=True)
 class HeadRequest:
     """Head motion target; the joints move there at most at ``speed``."""
@@ -184,6 +192,7 @@ class HeadRequest:
             raise ValueError(f"HeadRequest.camera must be 'upper' or 'lower', got {self.camera!r}")
 
 
+@fast_init
 @dataclass(frozen=True)
 class MotionRequest:
     """What the body should do until the next cognition frame.
@@ -197,6 +206,7 @@ class MotionRequest:
     head: HeadRequest = field(default_factory=HeadRequest)
 
 
+@fast_init
 @dataclass(frozen=True)
 class BrainOutput:
     """A brain's answer to one sensor frame."""
@@ -212,6 +222,7 @@ class BrainOutput:
             )
 
 
+@fast_init
 @dataclass(frozen=True)
 class RobotPose:
     """The localization's estimate of the own pose (team frame), as behaviors read it.
@@ -258,6 +269,7 @@ BallLevel = Literal["valid", "suspicious", "invalid"]
 """CMU IV.A's three confidence levels of a ball belief."""
 
 
+@fast_init
 @dataclass(frozen=True)
 class BallModel:
     """What the robot believes about the ball.

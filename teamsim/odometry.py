@@ -40,10 +40,12 @@ from typing import ClassVar
 
 import numpy as np
 
+from cognition.records import fast_init
 from cognition.representations import OdometryReading
 from teamsim.params import Ranges, check_ranges, non_negative
 
 
+@fast_init
 @dataclass(frozen=True)
 class TrueOdometry:
     """The body's actual motion since the previous cognition frame (simulator truth)."""

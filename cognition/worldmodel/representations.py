@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.gamestate import GameControlData
+from cognition.records import fast_init
 from cognition.representations import BallModel, RobotPose, SensorFrame
 from cognition.worldmodel.goal import GoalEstimate
 from cognition.worldmodel.messages import Role
@@ -26,6 +27,7 @@ _EMPTY2 = np.zeros((0, 2))
 _EMPTY2.setflags(write=False)
 
 
+@fast_init
 @dataclass(frozen=True)
 class Teammate:
     """What a robot knows of one teammate (team frame), from its latest message or the oracle."""
@@ -52,6 +54,7 @@ class Teammate:
         return not self.penalized and not self.fallen
 
 
+@fast_init
 @dataclass(frozen=True)
 class Beliefs:
     """One robot's beliefs after one cognition frame (frames in the module docstring)."""
