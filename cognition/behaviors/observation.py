@@ -31,6 +31,7 @@ then   the ``OBSTACLE_SLOTS`` nearest obstacles, nearest first: present, x / 3 m
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -75,26 +76,30 @@ class ObservationBuilder:
         """The observation of beliefs ``b`` (float32, every entry in [-1, 1])."""
         o = [0.0] * self.size
         p = b.pose
-        inv_l = self._inv_l
-        c, s = math.cos(p.theta), math.sin(p.theta)
-        o[0], o[1], o[2], o[3] = p.x / self._hl, p.y / self._hw, c, s
+        inv_l, hl, hw = self._inv_l, self._hl, self._hw
+        px, py = p.x, p.y
+        c, s = math.cos(p.theta), math.sin(p.theta)  # team -> robot frame: Beliefs.to_robot, inlined
+        o[0], o[1], o[2], o[3] = px / hl, py / hw, c, s
         cov = p.covariance
         o[4] = p.position_std / 2.0
         o[5] = math.sqrt(max(0.0, float(cov[2, 2]))) / math.pi
         o[6] = float(p.lost)
         ball = b.ball
-        if ball.level != "invalid":
+        level = ball.level
+        if level != "invalid":
             o[7], o[8], o[9], o[10] = ball.x * inv_l, ball.y * inv_l, ball.vx / 3.0, ball.vy / 3.0
-        o[_LEVELS[ball.level]] = 1.0
+        o[_LEVELS[level]] = 1.0
         o[14] = min(ball.age, 10.0) / 10.0
-        if ball.level != "invalid" and math.isfinite(ball.field_x):
-            o[15], o[16] = ball.field_x / self._hl, ball.field_y / self._hw
-        if b.team_ball is not None:
-            tx, ty = b.to_robot(b.team_ball.x, b.team_ball.y)
-            o[17], o[18], o[19] = 1.0, tx * inv_l, ty * inv_l
-        gx, gy = b.to_robot(self._hl, 0.0)
-        ox, oy = b.to_robot(-self._hl, 0.0)
-        o[20], o[21], o[22], o[23] = gx * inv_l, gy * inv_l, ox * inv_l, oy * inv_l
+        if level != "invalid" and math.isfinite(ball.field_x):
+            o[15], o[16] = ball.field_x / hl, ball.field_y / hw
+        tb = b.team_ball
+        if tb is not None:
+            dx, dy = tb.x - px, tb.y - py
+            o[17], o[18], o[19] = 1.0, (c * dx + s * dy) * inv_l, (-s * dx + c * dy) * inv_l
+        dx, dy = hl - px, 0.0 - py  # the opponent goal centre
+        o[20], o[21] = (c * dx + s * dy) * inv_l, (-s * dx + c * dy) * inv_l
+        dx = -hl - px  # the own goal centre
+        o[22], o[23] = (c * dx + s * dy) * inv_l, (-s * dx + c * dy) * inv_l
         if b.goal is not None:
             o[24], o[25], o[26] = b.goal.confidence, b.goal.centre_x * inv_l, b.goal.centre_y * inv_l
         g = b.game
@@ -103,29 +108,40 @@ class ObservationBuilder:
         o[33] = float(g.set_play != 0)
         o[34] = g.secondary_time / 30.0
         o[35] = g.secs_remaining / 600.0
-        own = g.team(self.team_number)
-        other = g.teams[1] if g.teams[0].team_number == self.team_number else g.teams[0]
+        first, second = g.teams[0], g.teams[1]
+        own, other = (first, second) if first.team_number == self.team_number else (second, first)
+        if own.team_number != self.team_number:
+            own = g.team(self.team_number)  # not in this game: the lookup's KeyError names it
         o[36] = (own.score - other.score) / 5.0
         o[37] = float(b.penalty != 0)
         o[38] = own.players[b.player_number - 1].secs_till_unpenalised / 45.0
         o[39] = float(b.fallen)
-        o[40] = float(b.player_number == 1)
+        number = b.player_number
+        o[40] = float(number == 1)
+        slots = self.players_per_team - 1
         for m in b.teammates:
-            slot = m.number - 1 if m.number < b.player_number else m.number - 2
-            if not 0 <= slot < self.players_per_team - 1:
+            slot = m.number - 1 if m.number < number else m.number - 2
+            if not 0 <= slot < slots:
                 continue
             i = _BASE + _MATE * slot
-            mx, my = b.to_robot(m.x, m.y)
-            o[i], o[i + 1], o[i + 2], o[i + 3], o[i + 4] = 1.0, mx * inv_l, my * inv_l, float(m.active), m.age / 3.0
+            dx, dy = m.x - px, m.y - py
+            o[i], o[i + 1], o[i + 2] = 1.0, (c * dx + s * dy) * inv_l, (-s * dx + c * dy) * inv_l
+            o[i + 3], o[i + 4] = float(m.active), m.age / 3.0
         obs = b.obstacles
         if len(obs):
-            d = obs[:, 0] ** 2 + obs[:, 1] ** 2
-            i = _BASE + _MATE * (self.players_per_team - 1)
-            for k in np.argsort(d, kind="stable")[:OBSTACLE_SLOTS]:
-                o[i], o[i + 1], o[i + 2] = 1.0, float(obs[k, 0]) / 3.0, float(obs[k, 1]) / 3.0
+            i = _BASE + _MATE * slots
+            rows = obs.tolist()
+            d = [x * x + y * y for x, y in rows]
+            if obs.dtype == np.float64 and all(v == v for v in d):  # nearest first, ties in order (stable)
+                nearest: Iterable[int] = sorted(range(len(d)), key=d.__getitem__)[:OBSTACLE_SLOTS]
+            else:  # NaN distances: numpy's order (NaN last)
+                nearest = np.argsort(obs[:, 0] ** 2 + obs[:, 1] ** 2, kind="stable")[:OBSTACLE_SLOTS].tolist()
+            for k in nearest:
+                x, y = rows[k]
+                o[i], o[i + 1], o[i + 2] = 1.0, x / 3.0, y / 3.0
                 i += _OBSTACLE
         out = np.array(o, dtype=np.float32)
-        if not np.isfinite(out).all():  # rare: a belief without a value reads as 0
+        if not math.isfinite(sum(o)):  # rare: a belief without a value reads as 0 (NaN in o makes the sum NaN)
             np.nan_to_num(out, copy=False, nan=0.0, posinf=1.0, neginf=-1.0)
         np.minimum(out, 1.0, out=out)  # clip to [-1, 1] (np.clip costs several times more on a short vector)
         np.maximum(out, -1.0, out=out)
