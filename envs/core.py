@@ -386,20 +386,24 @@ class SoccerCore:
         live = before["playing"] and now["playing"] and scored == (0, 0) and before["signs"] == now["signs"]
         rewards: dict[str, float] = {}
         infos: dict[str, dict[str, Any]] = {}
+        state, set_play = GameStateId(m.referee.state).name, SetPlay(m.referee.set_play).name
+        robots = m.world.robots
         for a, i in self._index.items():
-            team = m.world.robots[i].team
-            terms = {
-                "goal": float(scored[team] - scored[1 - team]),
-                "ball_progress": now["signs"][team] * (now["ball_x"] - before["ball_x"]) if live else 0.0,
-                "ball_approach": before["dist"][a] - now["dist"][a] if live else 0.0,
-                "penalty": -1.0 if now["penalised"][a] and not before["penalised"][a] else 0.0,
-            }
-            rewards[a] = float(sum(getattr(w, k) * v for k, v in terms.items()))
+            team = robots[i].team
+            goal = float(scored[team] - scored[1 - team])
+            progress = now["signs"][team] * (now["ball_x"] - before["ball_x"]) if live else 0.0
+            approach = before["dist"][a] - now["dist"][a] if live else 0.0
+            penalty = -1.0 if now["penalised"][a] and not before["penalised"][a] else 0.0
+            terms = {"goal": goal, "ball_progress": progress, "ball_approach": approach, "penalty": penalty}
+            # the weighted sum in the order of the terms, from 0 (what sum() over them gives)
+            rewards[a] = float(
+                0.0 + w.goal * goal + w.ball_progress * progress + w.ball_approach * approach + w.penalty * penalty
+            )
             infos[a] = {
                 "reward_terms": terms,
                 "score": (now["score"][team], now["score"][1 - team]),
-                "game_state": GameStateId(m.referee.state).name,
-                "set_play": SetPlay(m.referee.set_play).name,
+                "game_state": state,
+                "set_play": set_play,
             }
         return rewards, infos
 
