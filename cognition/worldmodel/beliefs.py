@@ -285,29 +285,28 @@ class TruthBeliefs:
         if oracle is None:
             raise ValueError("TruthBeliefs needs the oracle input (the brain must set uses_oracle = True)")
         me = oracle.self_pose
-        pose = RobotPose(me.x, me.y, me.theta, _ZERO3, False, 0, _EMPTY3, _EMPTY1, "truth")
-        c, s = math.cos(me.theta), math.sin(me.theta)
-        dx, dy = oracle.ball_x - me.x, oracle.ball_y - me.y
+        mx, my, mth = me.x, me.y, me.theta
+        pose = RobotPose(mx, my, mth, _ZERO3, False, 0, _EMPTY3, _EMPTY1, "truth")
+        c, s = math.cos(mth), math.sin(mth)
+        bx, by = oracle.ball_x, oracle.ball_y
+        dx, dy = bx - mx, by - my
         bvx, bvy = oracle.ball_vx, oracle.ball_vy
         ball = BallModel(
-            x=c * dx + s * dy, y=-s * dx + c * dy, vx=c * bvx + s * bvy, vy=-s * bvx + c * bvy,
-            covariance=_ZERO4, field_x=oracle.ball_x, field_y=oracle.ball_y, age=0.0,
-            level="valid", source="vision",
+            c * dx + s * dy, -s * dx + c * dy, c * bvx + s * bvy, -s * bvx + c * bvy, _ZERO4, bx, by, 0.0,
+            "valid", "vision",
         )  # fmt: skip
         gx, gy = self._goal
-        left = (c * (gx - me.x) + s * (gy - me.y), -s * (gx - me.x) + c * (gy - me.y))
-        right = (c * (gx - me.x) + s * (-gy - me.y), -s * (gx - me.x) + c * (-gy - me.y))
+        left = (c * (gx - mx) + s * (gy - my), -s * (gx - mx) + c * (gy - my))
+        right = (c * (gx - mx) + s * (-gy - my), -s * (gx - mx) + c * (-gy - my))
         goal = GoalEstimate(
-            centre_x=0.5 * (left[0] + right[0]), centre_y=0.5 * (left[1] + right[1]), left=left, right=right,
-            facing=wrap_angle(math.pi - me.theta), confidence=1.0,
-        )  # fmt: skip
-        teammates = tuple(
-            Teammate(number=m.number, x=m.x, y=m.y, theta=m.theta, age=0.0, fallen=m.fallen, penalized=not m.active)
-            for m in oracle.teammates
+            0.5 * (left[0] + right[0]), 0.5 * (left[1] + right[1]), left, right, wrap_angle(math.pi - mth), 1.0
         )
+        mates = oracle.teammates
+        teammates = tuple(Teammate(m.number, m.x, m.y, m.theta, 0.0, Role.NONE, m.fallen, not m.active) for m in mates)
         others = [
-            (c * (p.x - me.x) + s * (p.y - me.y), -s * (p.x - me.x) + c * (p.y - me.y))
-            for p in (*oracle.teammates, *oracle.opponents)
+            (c * (p.x - mx) + s * (p.y - my), -s * (p.x - mx) + c * (p.y - my))
+            for group in (mates, oracle.opponents)
+            for p in group
             if p.active
         ]
         obstacles = np.array(others) if others else _EMPTY2
