@@ -128,14 +128,8 @@ class SensorFrame:
 
     @property
     def penalty(self) -> int:
-        """Own penalty code from the game state (0 when playing). Looked up once per frame: the
-        localization, the beliefs and the behaviours all read it (``functools.cached_property``
-        takes a lock on every first read, which costs more than the lookup)."""
-        cached = self.__dict__.get("_penalty")
-        if cached is None:
-            cached = int(self.game.team(self.team_number).players[self.player_number - 1].penalty)
-            self.__dict__["_penalty"] = cached  # not a field: equality, repr and replace() ignore it
-        return cached
+        """Own penalty code from the game state (0 when playing)."""
+        return int(self.game.team(self.team_number).players[self.player_number - 1].penalty)
 
 
 @fast_init
