@@ -170,15 +170,11 @@ def _macro_index(action: object) -> int:
 
 def continuous_motion(a: NDArray[np.float64], p: ActionParams) -> MotionRequest:
     """The motion request of a checked continuous action (module table)."""
-    head = HeadRequest(
-        yaw=float(a[5]) * p.head_yaw,
-        pitch=p.pitch_min + 0.5 * (float(a[6]) + 1.0) * (p.pitch_max - p.pitch_min),
-    )
-    if a[3] > 0.0:
-        return MotionRequest(kick=KickRequest(direction=float(a[4]) * p.kick_angle, strength=float(a[3])), head=head)
-    walk = WalkRequest(
-        forward=float(a[0]) * p.max_forward, left=float(a[1]) * p.max_sideways, turn=float(a[2]) * p.max_turn
-    )
+    forward, left, turn, kick, direction, yaw, pitch = (float(v) for v in a.tolist())
+    head = HeadRequest(yaw * p.head_yaw, p.pitch_min + 0.5 * (pitch + 1.0) * (p.pitch_max - p.pitch_min))
+    if kick > 0.0:
+        return MotionRequest(kick=KickRequest(direction * p.kick_angle, kick), head=head)
+    walk = WalkRequest(forward * p.max_forward, left * p.max_sideways, turn * p.max_turn)
     return MotionRequest(walk=walk, head=head)
 
 
@@ -213,6 +209,8 @@ class PolicyBrain:
         """The latest beliefs (``None`` before the first frame)."""
         self.pose = None
         self.action: NDArray[np.float64] | int = np.zeros(CONTINUOUS_SIZE) if action_type == "continuous" else 0
+        self._motion_key = b""
+        self._motion_of_action = MotionRequest()
         self.kicks = 0
         """Kick requests issued so far."""
         self._pending: tuple[SensorFrame, OracleInput | None] | None = None
@@ -241,6 +239,9 @@ class PolicyBrain:
         self._pending: tuple[SensorFrame, OracleInput | None] | None = None
         self.pose = None
         self.action = np.zeros(CONTINUOUS_SIZE) if self.action_type == "continuous" else 0
+        self._motion_key = b""
+        """The bytes of the action :attr:`_motion_of_action` belongs to (none yet)."""
+        self._motion_of_action = MotionRequest()
         self._last_message = -1e9
         self._stage_runs = {"policy action": self._act_stage}
         """What each stage calls: the cognition stack's modules on its blackboard, then the action."""
@@ -295,7 +296,7 @@ class PolicyBrain:
             if frame.penalty or frame.picked_up or frame.fallen:
                 return BrainOutput(motion=MotionRequest())
             if self.action_type == "continuous":
-                return BrainOutput(motion=self._count(continuous_motion(self.action, self.params)))  # type: ignore[arg-type]
+                return BrainOutput(motion=self._count(self._continuous()))
             self.beliefs = self.provider.update(frame, oracle)
         else:
             assert self.provider is not None
@@ -328,10 +329,20 @@ class PolicyBrain:
         if b.penalty or b.picked_up or b.fallen:
             return MotionRequest()
         if self.action_type == "continuous":
-            m = continuous_motion(self.action, self.params)  # type: ignore[arg-type]
+            m = self._continuous()
         else:
             m = self._macro(int(self.action), b)  # type: ignore[arg-type]
         return self._count(m)
+
+    def _continuous(self) -> MotionRequest:
+        """:func:`continuous_motion` of the current action, computed once per action value (the
+        environment asks for it when the action arrives and again in every cognition frame)."""
+        action: NDArray[np.float64] = self.action  # type: ignore[assignment]
+        key = action.tobytes()
+        if key != self._motion_key:
+            self._motion_key = key
+            self._motion_of_action = continuous_motion(action, self.params)
+        return self._motion_of_action
 
     def _count(self, m: MotionRequest) -> MotionRequest:
         self.kicks += m.kick is not None
