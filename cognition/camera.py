@@ -59,6 +59,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from cognition.params import Range, Ranges, check_ranges
+from cognition.records import fast_init
 
 CameraName = Literal["upper", "lower"]
 CAMERA_NAMES: tuple[CameraName, ...] = ("upper", "lower")
@@ -211,6 +212,7 @@ def head_camera_pose(
     return rot, pos
 
 
+@fast_init
 @dataclass(frozen=True, eq=False)
 class CameraMatrix:
     """A camera's pose in the robot frame and its intrinsics.
@@ -315,6 +317,7 @@ CAMERA_ROW_SIZE = 18
 """Length of :meth:`CameraMatrix.as_row`."""
 
 
+@fast_init
 @dataclass(frozen=True, eq=False)
 class CameraImage:
     """One camera image as a robot receives it (the image observation path).

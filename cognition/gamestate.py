@@ -54,6 +54,8 @@ import struct
 from dataclasses import dataclass, field, replace
 from enum import IntEnum
 
+from cognition.records import fast_init
+
 GAMECONTROLLER_HEADER = b"RGme"
 GAMECONTROLLER_VERSION = 18
 GAMECONTROLLER_DATA_PORT = 3838
@@ -144,6 +146,7 @@ class Penalty(IntEnum):
     MANUAL = 15
 
 
+@fast_init
 @dataclass(frozen=True)
 class RobotInfo:
     """Penalty state of one player."""
@@ -158,6 +161,7 @@ def _empty_players() -> tuple[RobotInfo, ...]:
     return tuple(RobotInfo() for _ in range(MAX_NUM_PLAYERS))
 
 
+@fast_init
 @dataclass(frozen=True)
 class TeamInfo:
     """One team's block of the GameController packet."""
@@ -182,6 +186,7 @@ _PLAYER = struct.Struct("<BB")
 PACKET_SIZE = _HEAD.size + 2 * (_TEAM.size + MAX_NUM_PLAYERS * _PLAYER.size)
 
 
+@fast_init
 @dataclass(frozen=True)
 class GameControlData:
     """What the GameController broadcasts (RoboCupGameControlData, struct version 18).

@@ -35,6 +35,7 @@ import numpy as np
 import pymunk
 
 from cognition.field import Field
+from cognition.records import fast_init
 from teamsim.params import PROBABILITY, Range, Ranges, check_ranges, positive
 from teamsim.robot import (
     COLLISION_BALL,
@@ -76,6 +77,7 @@ RobotId = tuple[int, int]
 """(team index, player number)."""
 
 
+@fast_init
 @dataclass(frozen=True)
 class CollisionEvent:
     """One contact observed during a physics step.

@@ -12,10 +12,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
+import cognition.camera as camera
+import cognition.gamestate as gamestate
 import cognition.oracle as oracle
 import cognition.representations as reps
 import cognition.worldmodel.representations as wm_reps
 import teamsim.odometry as odometry
+import teamsim.world as world
 from cognition.records import fast_init
 
 
@@ -32,7 +35,7 @@ def _twin(cls: type) -> type:
 
 RECORDS = [
     obj
-    for module in (reps, wm_reps, oracle, odometry)
+    for module in (reps, wm_reps, oracle, odometry, gamestate, camera, world)
     for obj in vars(module).values()
     if isinstance(obj, type) and obj.__module__ == module.__name__ and obj.__init__.__module__ == module.__name__
     and dataclasses.is_dataclass(obj) and obj.__init__.__qualname__ == f"{obj.__qualname__}.__init__"
@@ -42,7 +45,8 @@ RECORDS = [
 
 def test_the_hot_records_have_the_fast_constructor() -> None:
     names = {cls.__name__ for cls in RECORDS}
-    assert {"SensorFrame", "RobotPose", "BallModel", "MotionRequest", "Beliefs", "Teammate", "TrueOdometry"} <= names
+    hot = {"SensorFrame", "RobotPose", "BallModel", "MotionRequest", "Beliefs", "Teammate", "TrueOdometry"}
+    assert hot | {"GameControlData", "TeamInfo", "RobotInfo", "CollisionEvent", "CameraMatrix", "CameraImage"} <= names
 
 
 @pytest.mark.parametrize("cls", RECORDS, ids=lambda c: c.__name__)
