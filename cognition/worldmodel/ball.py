@@ -39,7 +39,15 @@ from numpy.typing import NDArray
 from cognition.camera import CameraSpec
 from cognition.percepts import N_COLS, Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
-from cognition.worldmodel.kalman_ball import KalmanBallParams, own_frame_nb, publish_nb, update
+from cognition.worldmodel.kalman_ball import (
+    FRAME_PUBLISHED,
+    FRAME_SEEN,
+    FRAME_TEAM,
+    KalmanBallParams,
+    frame_nb,
+    publish_nb,
+    update,
+)
 from cognition.worldmodel.messages import TeamMessage
 
 GATE = 25.0
@@ -59,6 +67,11 @@ _NO_ROWS = np.zeros((0, N_COLS))
 _UNKNOWN_COV = np.eye(4) * 1e6
 _UNKNOWN_COV.flags.writeable = False
 """The covariance of no ball (shared, read-only)."""
+
+
+def _no_ball() -> BallModel:
+    """The ball model of no ball (``invalid``, source ``none``)."""
+    return BallModel(0.0, 0.0, 0.0, 0.0, _UNKNOWN_COV, math.nan, math.nan, math.inf, "invalid", "none")
 
 
 class KalmanBallModel:
@@ -81,7 +94,7 @@ class KalmanBallModel:
         self._out = np.zeros(3)
         """Position sd and field position of the published state (:func:`publish_nb`)."""
         self._consts_of: KalmanBallParams | None = None
-        self._consts: tuple[float, float, float, float, bool, float] = (0.0, 0.0, 0.0, 0.0, False, 0.0)
+        self._consts: tuple[float, float, float, float, bool, float, float] = (0.0, 0.0, 0.0, 0.0, False, 0.0, 0.0)
         """The kernel's view of ``params`` (:meth:`_kernel_constants`), for the params object ``_consts_of``."""
         self._focal: dict[int, tuple[CameraSpec, float]] = {}
         """Focal length (px, the mean of fx and fy) per camera spec, by ``id`` (the spec kept alive)."""
@@ -94,37 +107,47 @@ class KalmanBallModel:
         x, p = self.x, self.p
         had = x is not None and p is not None
         rows, foot_x, foot_y, height, focal = self._ball_rows(frame.percepts)
-        seen = False
-        if had or rows.shape[0]:
-            if x is None or p is None:  # the first sighting fills fresh arrays
-                self.x, self.p = x, p = np.zeros(4), np.zeros((4, 4))
-            status = self._status
-            status[0] = 1 if had else 0
-            deceleration, accel_sigma, fixed_sigma, size_px, at_prediction, velocity_var = self._kernel_constants()
-            o = frame.odometry
-            seen = own_frame_nb(
-                x, p, status, dt, deceleration, accel_sigma, o.dx, o.dy, o.dtheta, rows, foot_x, foot_y, height, focal,
-                self.ball_radius, fixed_sigma, size_px, at_prediction, GATE, RESTART_AFTER, velocity_var,
-            )  # fmt: skip
-            if had:
-                self.source = "prediction"
-            if seen:
-                self.last_seen = time
-                self.source = "vision"
-        if not seen and pose is not None and team and self._needs_team():
+        if not (had or rows.shape[0]):  # no state and nothing seen: at most a teammate's ball
+            if pose is not None and team and self._needs_team():
+                self._team(pose, team)
+            return self._output(pose)
+        if x is None or p is None:  # the first sighting fills fresh arrays
+            self.x, self.p = x, p = np.zeros(4), np.zeros((4, 4))
+        status = self._status
+        status[0] = 1 if had else 0
+        deceleration, accel_sigma, fixed_sigma, size_px, at_prediction, velocity_var, threshold = (
+            self._kernel_constants()
+        )
+        lim_x, lim_y = self.limits if self.limits is not None else (-1.0, -1.0)
+        px, py, pth = (pose.x, pose.y, pose.theta) if pose is not None else (0.0, 0.0, 0.0)
+        o = frame.odometry
+        flags = frame_nb(
+            x, p, status, dt, deceleration, accel_sigma, o.dx, o.dy, o.dtheta, rows, foot_x, foot_y, height, focal,
+            self.ball_radius, fixed_sigma, size_px, at_prediction, GATE, RESTART_AFTER, velocity_var,
+            threshold if pose is not None and team else -1.0, pose is not None, px, py, pth, lim_x, lim_y, self._out,
+        )  # fmt: skip
+        if had:
+            self.source = "prediction"
+        if flags & FRAME_SEEN:
+            self.last_seen = time
+            self.source = "vision"
+        if flags & FRAME_TEAM:  # not seen and uncertain: a teammate's ball, then publish
+            assert pose is not None  # only asked for with a pose
             self._team(pose, team)
-        return self._output(pose)
+            return self._output(pose)
+        return self._published(flags & FRAME_PUBLISHED != 0)
 
-    def _kernel_constants(self) -> tuple[float, float, float, float, bool, float]:
-        """The arguments of :func:`own_frame_nb` that come from ``params`` alone: rolling
+    def _kernel_constants(self) -> tuple[float, float, float, float, bool, float, float]:
+        """The arguments of :func:`frame_nb` that come from ``params`` alone: rolling
         deceleration (m/s^2), acceleration sd (m/s^1.5), fixed angular sd (rad; -1 in ``adaptive``
         mode), image radius sd (px), sigmas at the prediction, velocity variance of a new ball
-        ((m/s)^2). Worked out again only when ``params`` is replaced (it is frozen)."""
+        ((m/s)^2), team threshold (m^2). Worked out again only when ``params`` is replaced (it is
+        frozen)."""
         prm = self.params
         if prm is not self._consts_of:
             self._consts = (
                 prm.rolling_deceleration, prm.accel_sigma, prm.fixed_sigma if prm.sigma_mode == "fixed" else -1.0,
-                prm.size_sigma_px, prm.sigmas_at_prediction, prm.initial_velocity_sigma**2,
+                prm.size_sigma_px, prm.sigmas_at_prediction, prm.initial_velocity_sigma**2, prm.team_threshold,
             )  # fmt: skip
             self._consts_of = prm
         return self._consts
@@ -187,17 +210,21 @@ class KalmanBallModel:
         """Keep the state on the carpet (given ``limits`` and a pose) and publish it
         (:func:`publish_nb`); a state that is not finite is dropped (module docstring)."""
         x, p = self.x, self.p
-        if x is not None and p is not None:
-            lim_x, lim_y = self.limits if self.limits is not None else (-1.0, -1.0)
-            if pose is not None:
-                ok = publish_nb(x, p, True, pose.x, pose.y, pose.theta, lim_x, lim_y, self._out)
-            else:
-                ok = publish_nb(x, p, False, 0.0, 0.0, 0.0, lim_x, lim_y, self._out)
-            if not ok:
-                self.x = self.p = x = p = None  # NaN would read as a certain ball (max(0, nan) is 0)
-                self.source = "none"
         if x is None or p is None:
-            return BallModel(0.0, 0.0, 0.0, 0.0, _UNKNOWN_COV, math.nan, math.nan, math.inf, "invalid", "none")
+            return _no_ball()
+        lim_x, lim_y = self.limits if self.limits is not None else (-1.0, -1.0)
+        if pose is not None:
+            return self._published(publish_nb(x, p, True, pose.x, pose.y, pose.theta, lim_x, lim_y, self._out))
+        return self._published(publish_nb(x, p, False, 0.0, 0.0, 0.0, lim_x, lim_y, self._out))
+
+    def _published(self, finite: bool) -> BallModel:
+        """The ball model of the state just published (:func:`publish_nb`: position sd and field
+        position in ``_out``); with ``finite`` false the state is dropped and there is no ball."""
+        x, p = self.x, self.p
+        if not finite or x is None or p is None:
+            self.x = self.p = None  # NaN would read as a certain ball (max(0, nan) is 0)
+            self.source = "none"
+            return _no_ball()
         x0, x1, x2, x3 = x.tolist()
         sd, fx, fy = self._out.tolist()
         level: BallLevel = "valid" if sd < VALID_SIGMA else ("suspicious" if sd < SUSPICIOUS_SIGMA else "invalid")

@@ -460,3 +460,64 @@ def publish_nb(x, p, has_pose, px, py, pth, lim_x, lim_y, out):  # pragma: no co
         out[1] = px + c * x[0] - s * x[1]
         out[2] = py + s * x[0] + c * x[1]
     return True
+
+
+FRAME_SEEN = 1
+"""A :func:`frame_nb` flag: a percept updated or started the state."""
+FRAME_TEAM = 2
+"""A :func:`frame_nb` flag: not published, a teammate's ball is to be used first."""
+FRAME_PUBLISHED = 4
+"""A :func:`frame_nb` flag: the state was published (finite); without it, and without
+``FRAME_TEAM``, the state is no longer finite."""
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def frame_nb(
+    x,
+    p,
+    status,
+    dt,
+    deceleration,
+    accel_sigma,
+    dx,
+    dy,
+    dtheta,
+    rows,
+    foot_x,
+    foot_y,
+    height,
+    focal,
+    ball_radius,
+    fixed_sigma,
+    size_sigma_px,
+    sigmas_at_prediction,
+    gate,
+    restart_after,
+    velocity_var,
+    team_threshold,
+    has_pose,
+    px,
+    py,
+    pth,
+    lim_x,
+    lim_y,
+    out,
+):  # pragma: no cover - compiled
+    """A frame of :class:`cognition.worldmodel.ball.KalmanBallModel` with a state or a percept in
+    one call: :func:`own_frame_nb` (the arguments up to ``velocity_var``), then
+    :func:`publish_nb` (``has_pose`` to ``out``), unless no percept updated the state, a
+    teammate's ball may be used (``team_threshold`` >= 0, m^2) and the position variance (trace
+    of the position block, m^2) exceeds ``team_threshold``: then it returns :data:`FRAME_TEAM`
+    alone and the caller updates from the teammates before it publishes. Otherwise it returns
+    :data:`FRAME_SEEN` if a percept updated or started the state, plus
+    :data:`FRAME_PUBLISHED` if the state was finite and published."""
+    seen = own_frame_nb(
+        x, p, status, dt, deceleration, accel_sigma, dx, dy, dtheta, rows, foot_x, foot_y, height, focal, ball_radius,
+        fixed_sigma, size_sigma_px, sigmas_at_prediction, gate, restart_after, velocity_var,
+    )  # fmt: skip
+    if not seen and team_threshold >= 0.0 and p[0, 0] + p[1, 1] > team_threshold:
+        return FRAME_TEAM
+    flags = FRAME_SEEN if seen else 0
+    if publish_nb(x, p, has_pose, px, py, pth, lim_x, lim_y, out):
+        flags |= FRAME_PUBLISHED
+    return flags
