@@ -213,11 +213,14 @@ class BallHypotheses:
                 continue
             conf = max(0.0, min(1.0, m.ball_confidence)) - decay * m.ball_age
             player = m.player
-            for i, h in enumerate(hyps):  # at most one hypothesis per teammate
+            for i, h in enumerate(hyps):  # at most one hypothesis per teammate: the latest, last
                 if h.sender == player and h.source == "team":
                     del hyps[i]
+                    h.x, h.y, h.confidence = m.ball_x, m.ball_y, conf
+                    hyps.append(h)
                     break
-            hyps.append(Hypothesis(m.ball_x, m.ball_y, conf, "team", player))
+            else:
+                hyps.append(Hypothesis(m.ball_x, m.ball_y, conf, "team", player))
 
     def _belief(self, pose: RobotPose | None, seen: bool, cs: tuple[float, float]) -> BallBelief:
         """The most confident hypothesis that can be placed in the robot frame (the first of
