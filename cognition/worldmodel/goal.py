@@ -35,6 +35,10 @@ from numpy.typing import NDArray
 from cognition.params import Ranges, check_number, check_ranges, positive
 from cognition.percepts import Col, Kind, Percepts
 
+_TAU = 2 * math.pi
+_POST = int(Kind.POST)
+_X, _Y = int(Col.X), int(Col.Y)
+
 
 @dataclass(frozen=True)
 class GoalEstimate:
@@ -173,8 +177,3 @@ class GoalModel:
         if -(nx * cx + ny * cy) < 0.0:  # point it toward the robot's side of the goal line
             nx, ny = -nx, -ny
         return GoalEstimate(cx, cy, (plx, ply), (prx, pry), math.atan2(ny, nx), min(lc, rc))
-
-
-_TAU = 2 * math.pi
-_POST = int(Kind.POST)
-_X, _Y = int(Col.X), int(Col.Y)

@@ -184,7 +184,7 @@ def _predict_into(x, p, dt, deceleration, accel_sigma, fc, t):  # pragma: no cov
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def _predict_nb(x, p, dt, deceleration, accel_sigma):  # pragma: no cover - compiled
-    xo, po = x.copy(), p.copy()
+    xo, po = x.astype(np.float64), p.astype(np.float64)  # copies, float even for integer input
     _predict_into(xo, po, dt, deceleration, accel_sigma, np.empty((4, 4)), np.empty((4, 4)))
     return xo, po
 
@@ -206,7 +206,7 @@ def _move_into(x, p, dx, dy, dtheta, g, t):  # pragma: no cover - compiled
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def _move_nb(x, p, dx, dy, dtheta):  # pragma: no cover - compiled
-    xo, po = x.copy(), p.copy()
+    xo, po = x.astype(np.float64), p.astype(np.float64)  # copies, float even for integer input
     _move_into(xo, po, dx, dy, dtheta, np.empty((4, 4)), np.empty((4, 4)))
     return xo, po
 
@@ -242,7 +242,7 @@ def _update_into(x, p, z, r, work):  # pragma: no cover - compiled
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def _update_nb(x, p, z, r):  # pragma: no cover - compiled
-    xo, po = x.copy(), p.copy()
+    xo, po = x.astype(np.float64), p.astype(np.float64)  # copies, float even for integer input
     _update_into(xo, po, z, r, np.empty((5, 4, 4)))
     return xo, po
 
@@ -340,7 +340,7 @@ def _size_nb(radius_px, focal_px, ball_radius, height):  # pragma: no cover - co
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def predict_move_nb(x, p, dt, deceleration, accel_sigma, dx, dy, dtheta):  # pragma: no cover - compiled
     """:func:`predict` then :func:`move_robot` in one call."""
-    xo, po = x.copy(), p.copy()
+    xo, po = x.astype(np.float64), p.astype(np.float64)  # copies, float even for integer input
     g, t = np.empty((4, 4)), np.empty((4, 4))
     _predict_into(xo, po, dt, deceleration, accel_sigma, g, t)
     _move_into(xo, po, dx, dy, dtheta, g, t)
