@@ -10,8 +10,16 @@ import math
 import numpy as np
 import pytest
 
+from cognition.percepts import N_COLS
 from cognition.worldmodel.ball import GATE, RESTART_AFTER, KalmanBallModel
-from cognition.worldmodel.kalman_ball import own_frame_nb, publish_nb
+from cognition.worldmodel.kalman_ball import (
+    FRAME_PUBLISHED,
+    FRAME_SEEN,
+    FRAME_TEAM,
+    frame_nb,
+    own_frame_nb,
+    publish_nb,
+)
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
 
@@ -202,4 +210,39 @@ def test_publishing_a_ball_equals_the_plain_python_step() -> None:
         kinds["dropped" if out_ref is None else "moved" if moved else "kept"] += 1
         kinds["no pose"] += not use_pose
         kinds["no limits"] += not use_limits
+    assert min(kinds.values()) > 20, kinds
+
+
+def test_the_frame_kernel_is_the_own_frame_then_the_team_check_or_publishing() -> None:
+    """:func:`frame_nb` against :func:`own_frame_nb` followed by :func:`publish_nb`, to the bit,
+    on random states and percepts: it stops before publishing (``FRAME_TEAM``) exactly when no
+    percept updated the state, teammates may be used and the position variance exceeds the
+    threshold."""
+    rng = np.random.default_rng(11)
+    limits = (5.2, 3.7)
+    kinds = {"seen": 0, "team": 0, "published": 0, "kept out of the team": 0}
+    for trial in range(2000):
+        x = rng.normal(0.0, 2.0, 4)
+        a = rng.normal(0.0, 0.4, (4, 4))
+        p = a @ a.T
+        rows = np.zeros((trial % 3, N_COLS))
+        for r in rows:
+            r[0], r[1] = x[0] + rng.normal(0.0, 0.3 if trial % 5 else 3.0), x[1] + rng.normal(0.0, 0.3)
+            r[13], r[14], r[15] = 0.02, 0.03, rng.uniform(2.0, 10.0)
+        status = np.array([1, trial % 5], dtype=np.int64)
+        threshold = 0.25 if trial % 4 else -1.0
+        pose = (rng.uniform(-4, 4), rng.uniform(-3, 3), rng.uniform(-math.pi, math.pi))
+        own = (0.033, 1.0, 0.3, 0.01, -0.02, 0.05, rows, 0.05, 0.0, 0.45, 280.0, 0.05, -1.0, 0.6, True, GATE,
+               RESTART_AFTER, 1.0)  # fmt: skip
+        xr, pr, sr, out_r = x.copy(), p.copy(), status.copy(), np.zeros(3)
+        seen = own_frame_nb(xr, pr, sr, *own)
+        team = not seen and threshold >= 0.0 and pr[0, 0] + pr[1, 1] > threshold
+        ok = not team and publish_nb(xr, pr, True, *pose, *limits, out_r)
+        xk, pk, sk, out_k = x.copy(), p.copy(), status.copy(), np.zeros(3)
+        flags = frame_nb(xk, pk, sk, *own, threshold, True, *pose, *limits, out_k)
+        assert flags == (FRAME_TEAM if team else (FRAME_SEEN if seen else 0) | (FRAME_PUBLISHED if ok else 0))
+        assert np.array_equal(xk, xr) and np.array_equal(pk, pr) and np.array_equal(sk, sr)
+        assert np.array_equal(out_k, out_r)
+        kinds["seen" if seen else "team" if team else "published"] += 1
+        kinds["kept out of the team"] += not seen and threshold < 0.0
     assert min(kinds.values()) > 20, kinds

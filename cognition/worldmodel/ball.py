@@ -36,9 +36,18 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from cognition.camera import CameraSpec
 from cognition.percepts import N_COLS, Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
-from cognition.worldmodel.kalman_ball import KalmanBallParams, own_frame_nb, publish_nb, update
+from cognition.worldmodel.kalman_ball import (
+    FRAME_PUBLISHED,
+    FRAME_SEEN,
+    FRAME_TEAM,
+    KalmanBallParams,
+    frame_nb,
+    publish_nb,
+    update,
+)
 from cognition.worldmodel.messages import TeamMessage
 
 GATE = 25.0
@@ -60,6 +69,11 @@ _UNKNOWN_COV.flags.writeable = False
 """The covariance of no ball (shared, read-only)."""
 
 
+def _no_ball() -> BallModel:
+    """The ball model of no ball (``invalid``, source ``none``)."""
+    return BallModel(0.0, 0.0, 0.0, 0.0, _UNKNOWN_COV, math.nan, math.nan, math.inf, "invalid", "none")
+
+
 class KalmanBallModel:
     """One robot's Kalman ball (module docstring); ``ball_radius`` in m from the field map,
     ``limits`` the largest abs(x), abs(y) (m, team frame) of a ball, ``None`` for no limit."""
@@ -79,51 +93,94 @@ class KalmanBallModel:
         """(1 if the compiled frame is given a state, consecutive rejected percepts) (:func:`own_frame_nb`)."""
         self._out = np.zeros(3)
         """Position sd and field position of the published state (:func:`publish_nb`)."""
+        self._consts_of: KalmanBallParams | None = None
+        self._consts: tuple[float, float, float, float, bool, float, float] = (0.0, 0.0, 0.0, 0.0, False, 0.0, 0.0)
+        """The kernel's view of ``params`` (:meth:`_kernel_constants`), for the params object ``_consts_of``."""
+        self._focal: dict[int, tuple[CameraSpec, float]] = {}
+        """Focal length (px, the mean of fx and fy) per camera spec, by ``id`` (the spec kept alive)."""
 
     def update(self, frame: SensorFrame, pose: RobotPose | None = None, team: Sequence[TeamMessage] = ()) -> BallModel:
         """One frame (robot frame results; ``pose`` only for field coordinates and team balls)."""
-        prm = self.params
-        dt = 0.0 if self.time is None else max(0.0, frame.time - self.time)
-        self.time = frame.time
-        had = self.x is not None and self.p is not None
+        time = frame.time
+        dt = 0.0 if self.time is None else max(0.0, time - self.time)
+        self.time = time
+        x, p = self.x, self.p
+        had = x is not None and p is not None
         rows, foot_x, foot_y, height, focal = self._ball_rows(frame.percepts)
-        seen = False
-        if had or rows.shape[0]:
-            if not had:  # the first sighting fills fresh arrays
-                self.x, self.p = np.zeros(4), np.zeros((4, 4))
-            self._status[0] = 1 if had else 0
-            o = frame.odometry
-            seen = own_frame_nb(
-                self.x, self.p, self._status, dt, prm.rolling_deceleration, prm.accel_sigma, o.dx, o.dy, o.dtheta, rows,
-                foot_x, foot_y, height, focal, self.ball_radius, prm.fixed_sigma if prm.sigma_mode == "fixed" else -1.0,
-                prm.size_sigma_px, prm.sigmas_at_prediction, GATE, RESTART_AFTER, prm.initial_velocity_sigma**2,
-            )  # fmt: skip
-            if had:
-                self.source = "prediction"
-            if seen:
-                self.last_seen = frame.time
-                self.source = "vision"
-        if not seen and pose is not None and team and self._needs_team():
+        if not (had or rows.shape[0]):  # no state and nothing seen: at most a teammate's ball
+            if pose is not None and team and self._needs_team():
+                self._team(pose, team)
+            return self._output(pose)
+        if x is None or p is None:  # the first sighting fills fresh arrays
+            self.x, self.p = x, p = np.zeros(4), np.zeros((4, 4))
+        status = self._status
+        status[0] = 1 if had else 0
+        deceleration, accel_sigma, fixed_sigma, size_px, at_prediction, velocity_var, threshold = (
+            self._kernel_constants()
+        )
+        lim_x, lim_y = self.limits if self.limits is not None else (-1.0, -1.0)
+        px, py, pth = (pose.x, pose.y, pose.theta) if pose is not None else (0.0, 0.0, 0.0)
+        o = frame.odometry
+        flags = frame_nb(
+            x, p, status, dt, deceleration, accel_sigma, o.dx, o.dy, o.dtheta, rows, foot_x, foot_y, height, focal,
+            self.ball_radius, fixed_sigma, size_px, at_prediction, GATE, RESTART_AFTER, velocity_var,
+            threshold if pose is not None and team else -1.0, pose is not None, px, py, pth, lim_x, lim_y, self._out,
+        )  # fmt: skip
+        if had:
+            self.source = "prediction"
+        if flags & FRAME_SEEN:
+            self.last_seen = time
+            self.source = "vision"
+        if flags & FRAME_TEAM:  # not seen and uncertain: a teammate's ball, then publish
+            assert pose is not None  # only asked for with a pose
             self._team(pose, team)
-        return self._output(pose)
+            return self._output(pose)
+        return self._published(flags & FRAME_PUBLISHED != 0)
+
+    def _kernel_constants(self) -> tuple[float, float, float, float, bool, float, float]:
+        """The arguments of :func:`frame_nb` that come from ``params`` alone: rolling
+        deceleration (m/s^2), acceleration sd (m/s^1.5), fixed angular sd (rad; -1 in ``adaptive``
+        mode), image radius sd (px), sigmas at the prediction, velocity variance of a new ball
+        ((m/s)^2), team threshold (m^2). Worked out again only when ``params`` is replaced (it is
+        frozen)."""
+        prm = self.params
+        if prm is not self._consts_of:
+            self._consts = (
+                prm.rolling_deceleration, prm.accel_sigma, prm.fixed_sigma if prm.sigma_mode == "fixed" else -1.0,
+                prm.size_sigma_px, prm.sigmas_at_prediction, prm.initial_velocity_sigma**2, prm.team_threshold,
+            )  # fmt: skip
+            self._consts_of = prm
+        return self._consts
 
     # -- updates ---------------------------------------------------------------------------
     def _ball_rows(self, percepts: Percepts | None) -> tuple[NDArray[np.float64], float, float, float, float]:
         """This frame's ball percept rows (none without percepts or a camera matrix), the camera's
-        foot (x, y, m, robot frame), its height above the ball centre (m) and focal length (px)."""
-        if percepts is None or percepts.camera is None:
+        foot (x, y, m, robot frame), its height above the ball centre (m) and focal length (px).
+
+        The camera matrix is only asked for (and so only built) when there are ball rows."""
+        if percepts is None:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
         table, offsets = percepts.table_and_offsets
-        lo, hi = int(offsets[_BALL]), int(offsets[_BALL + 1])
+        lo, hi = offsets[_BALL : _BALL + 2].tolist()
         if hi == lo:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
         cam = percepts.camera
-        foot = cam.position  # distances are from the camera's foot
-        focal = 0.5 * (cam.spec.fx + cam.spec.fy)
-        return table[lo:hi], float(foot[0]), float(foot[1]), cam.height - self.ball_radius, focal
+        if cam is None:
+            return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
+        spec = cam.spec
+        known = self._focal.get(id(spec))
+        if known is None or known[0] is not spec:
+            known = self._focal[id(spec)] = (spec, 0.5 * (spec.fx + spec.fy))
+        foot_x, foot_y, foot_z = cam.position.tolist()  # distances are from the camera's foot
+        return table[lo:hi], foot_x, foot_y, foot_z - self.ball_radius, known[1]
 
     def _needs_team(self) -> bool:
-        return self.p is None or float(self.p[0, 0] + self.p[1, 1]) > self.params.team_threshold
+        """Whether the own position variance (trace, m^2) exceeds ``team_threshold`` (or there is no state)."""
+        p = self.p
+        if p is None:
+            return True
+        (p00, _), (_, p11) = p[:2, :2].tolist()
+        return p00 + p11 > self.params.team_threshold
 
     def _team(self, pose: RobotPose, team: Sequence[TeamMessage]) -> None:
         mates = [m for m in team if m.ball_valid and not m.penalized]
@@ -152,19 +209,26 @@ class KalmanBallModel:
     def _output(self, pose: RobotPose | None) -> BallModel:
         """Keep the state on the carpet (given ``limits`` and a pose) and publish it
         (:func:`publish_nb`); a state that is not finite is dropped (module docstring)."""
-        if self.x is not None and self.p is not None:
-            lim = self.limits if self.limits is not None else (-1.0, -1.0)
-            has_pose = pose is not None
-            px, py, pth = (pose.x, pose.y, pose.theta) if pose is not None else (0.0, 0.0, 0.0)
-            if not publish_nb(self.x, self.p, has_pose, px, py, pth, lim[0], lim[1], self._out):
-                self.x = self.p = None  # NaN would read as a certain ball (max(0, nan) is 0)
-                self.source = "none"
-        if self.x is None or self.p is None:
-            return BallModel(0.0, 0.0, 0.0, 0.0, _UNKNOWN_COV, math.nan, math.nan, math.inf, "invalid", "none")
-        x0, x1, x2, x3 = self.x.tolist()
+        x, p = self.x, self.p
+        if x is None or p is None:
+            return _no_ball()
+        lim_x, lim_y = self.limits if self.limits is not None else (-1.0, -1.0)
+        if pose is not None:
+            return self._published(publish_nb(x, p, True, pose.x, pose.y, pose.theta, lim_x, lim_y, self._out))
+        return self._published(publish_nb(x, p, False, 0.0, 0.0, 0.0, lim_x, lim_y, self._out))
+
+    def _published(self, finite: bool) -> BallModel:
+        """The ball model of the state just published (:func:`publish_nb`: position sd and field
+        position in ``_out``); with ``finite`` false the state is dropped and there is no ball."""
+        x, p = self.x, self.p
+        if not finite or x is None or p is None:
+            self.x = self.p = None  # NaN would read as a certain ball (max(0, nan) is 0)
+            self.source = "none"
+            return _no_ball()
+        x0, x1, x2, x3 = x.tolist()
         sd, fx, fy = self._out.tolist()
         level: BallLevel = "valid" if sd < VALID_SIGMA else ("suspicious" if sd < SUSPICIOUS_SIGMA else "invalid")
         age = (self.time or 0.0) - self.last_seen
-        p = self.p.copy()  # the state is updated in place; the output keeps this frame's covariance
+        p = p.copy()  # the state is updated in place; the output keeps this frame's covariance
         p.flags.writeable = False
         return BallModel(x0, x1, x2, x3, p, fx, fy, age, level, self.source)  # type: ignore[arg-type]

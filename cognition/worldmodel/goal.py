@@ -33,7 +33,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.params import Ranges, check_number, check_ranges, positive
-from cognition.percepts import Kind, Percepts
+from cognition.percepts import Col, Kind, Percepts
+
+_TAU = 2 * math.pi
+_POST = int(Kind.POST)
+_X, _Y = int(Col.X), int(Col.Y)
 
 
 @dataclass(frozen=True)
@@ -109,36 +113,41 @@ class GoalModel:
         self._tracks: list[list[float]] = []  # x, y, confidence, mean distance-scale samples
 
     def move_robot(self, dx: float, dy: float, dtheta: float, dt: float) -> None:
-        """Carry the tracks into the new robot frame and age them."""
+        """Carry the tracks into the new robot frame and age them (``dx``, ``dy`` m and
+        ``dtheta`` rad: the robot's motion in its old frame; ``dt`` s); faded tracks are dropped."""
         if not self._tracks:
             return
         c, s = math.cos(dtheta), math.sin(dtheta)
         decay = self.params.decay_per_second * dt
         keep = []
-        for t in self._tracks:
-            x, y = t[0] - dx, t[1] - dy
-            t[0], t[1] = c * x + s * y, -s * x + c * y
-            t[2] -= decay
-            if t[2] > 0.0:
-                keep.append(t)
+        for x, y, confidence, n in self._tracks:
+            confidence -= decay
+            if confidence > 0.0:
+                x, y = x - dx, y - dy
+                keep.append([c * x + s * y, -s * x + c * y, confidence, n])
         self._tracks = keep
 
     def add(self, x: float, y: float) -> None:
         """One post detection at (x, y) (robot frame, m)."""
         b = math.atan2(y, x)
+        merge = self.params.merge_angle
         for t in self._tracks:
-            if abs(math.remainder(math.atan2(t[1], t[0]) - b, 2 * math.pi)) <= self.params.merge_angle:
-                n = t[3]
-                t[0], t[1] = (t[0] * n + x) / (n + 1), (t[1] * n + y) / (n + 1)
-                t[2] = min(1.0, t[2] + self.params.confidence_gain)
+            tx, ty, confidence, n = t
+            if abs(math.remainder(math.atan2(ty, tx) - b, _TAU)) <= merge:
+                t[0], t[1] = (tx * n + x) / (n + 1), (ty * n + y) / (n + 1)
+                t[2] = min(1.0, confidence + self.params.confidence_gain)
                 t[3] = n + 1
                 return
         self._tracks.append([x, y, self.params.confidence_gain, 1.0])
 
     def add_percepts(self, percepts: Percepts | None) -> None:
         """All post detections of one image."""
-        if percepts is not None and percepts.count(Kind.POST):
-            for x, y in percepts.posts.xy.tolist():
+        if percepts is None:
+            return
+        table, offsets = percepts.table_and_offsets
+        lo, hi = offsets[_POST : _POST + 2].tolist()
+        if hi != lo:
+            for x, y in table[lo:hi, _X : _Y + 1].tolist():
                 self.add(x, y)
 
     def estimate(self) -> GoalEstimate | None:
@@ -155,16 +164,16 @@ class GoalModel:
                 b = t
         assert a is not None and b is not None
         ba, bb = math.atan2(a[1], a[0]), math.atan2(b[1], b[0])
-        left, right = (a, b) if math.remainder(ba - bb, 2 * math.pi) > 0 else (b, a)
-        bl, br = math.atan2(left[1], left[0]), math.atan2(right[1], right[0])
+        if math.remainder(ba - bb, _TAU) > 0:  # the left post has the larger bearing
+            (lx, ly, lc, _), bl, (rx, ry, rc, _), br = a, ba, b, bb
+        else:
+            (lx, ly, lc, _), bl, (rx, ry, rc, _), br = b, bb, a, ba
         try:
-            plx, ply, prx, pry = _posts_xy(
-                bl, math.hypot(left[0], left[1]), br, math.hypot(right[0], right[1]), self.separation
-            )
+            plx, ply, prx, pry = _posts_xy(bl, math.hypot(lx, ly), br, math.hypot(rx, ry), self.separation)
         except ValueError:
             return None
         cx, cy = 0.5 * (plx + prx), 0.5 * (ply + pry)
         nx, ny = -(pry - ply), prx - plx  # perpendicular to the goal line
         if -(nx * cx + ny * cy) < 0.0:  # point it toward the robot's side of the goal line
             nx, ny = -nx, -ny
-        return GoalEstimate(cx, cy, (plx, ply), (prx, pry), math.atan2(ny, nx), min(left[2], right[2]))
+        return GoalEstimate(cx, cy, (plx, ply), (prx, pry), math.atan2(ny, nx), min(lc, rc))

@@ -48,6 +48,7 @@ from cognition.representations import BallLevel, RobotPose, SensorFrame
 from cognition.worldmodel.messages import TeamMessage
 
 _X, _Y = int(Col.X), int(Col.Y)
+_BALL = int(Kind.BALL)
 
 
 def _heading(pose: RobotPose | None) -> tuple[float, float]:
@@ -131,34 +132,40 @@ class BallHypotheses:
     def update(self, frame: SensorFrame, pose: RobotPose | None = None, team: Sequence[TeamMessage] = ()) -> BallBelief:
         """One frame; ``pose`` converts team hypotheses; ``team``: messages received this frame."""
         p = self.params
-        dt = 0.0 if self.time is None else max(0.0, frame.time - self.time)
-        self.time = frame.time
-        o = frame.odometry
+        time = frame.time
+        dt = 0.0 if self.time is None else max(0.0, time - self.time)
+        self.time = time
         percepts = frame.percepts
-        seen = percepts is not None and percepts.count(Kind.BALL) > 0
+        seen = False
+        if percepts is not None:
+            rows, offsets = percepts.table_and_offsets
+            lo, hi = offsets[_BALL : _BALL + 2].tolist()
+            seen = hi > lo
+        cs = _heading(pose)
         team_decay = p.team_decay_per_second * dt
         for h in self.hypotheses:
             if h.source == "team":
                 h.confidence -= team_decay
         if seen:  # the visible ball overrides: it is the one own hypothesis, and the answer
-            assert percepts is not None
-            rows, offsets = percepts.table_and_offsets
-            bx, by = rows[offsets[Kind.BALL], _X : _Y + 1].tolist()
+            bx, by = rows[lo, _X : _Y + 1].tolist()
             self.hypotheses = [h for h in self.hypotheses if h.source == "team"]
             self.hypotheses.append(Hypothesis(bx, by, 1.0, "own"))
         else:
-            c, s = math.cos(o.dtheta), math.sin(o.dtheta)
-            walk = math.hypot(o.dx, o.dy) * p.walk_decay_per_metre + abs(o.dtheta) * p.turn_decay_per_radian
+            o = frame.odometry
+            odx, ody, odth = o.dx, o.dy, o.dtheta
+            c, s = math.cos(odth), math.sin(odth)
+            walk = math.hypot(odx, ody) * p.walk_decay_per_metre + abs(odth) * p.turn_decay_per_radian
+            own_loss = p.decay_per_second * dt + walk
             for h in self.hypotheses:
                 if h.source == "own":
-                    x, y = h.x - o.dx, h.y - o.dy
+                    x, y = h.x - odx, h.y - ody
                     h.x, h.y = c * x + s * y, -s * x + c * y
-                    h.confidence -= p.decay_per_second * dt + walk
-            self._negative(percepts, pose, dt)
+                    h.confidence -= own_loss
+            self._negative(percepts, pose, dt, cs)
         if team:
             self._teammates(team, pose)
         self.hypotheses = [h for h in self.hypotheses if h.confidence > 0.0]
-        return self._belief(pose, seen)
+        return self._belief(pose, seen, cs)
 
     # -- pieces ----------------------------------------------------------------------------
     @staticmethod
@@ -173,52 +180,66 @@ class BallHypotheses:
         dx, dy = h.x - pose.x, h.y - pose.y
         return c * dx + s * dy, -s * dx + c * dy
 
-    def _negative(self, percepts: Percepts | None, pose: RobotPose | None, dt: float) -> None:
-        """Hypotheses in view but not seen lose confidence fast."""
-        cam = percepts.camera if percepts is not None else None
-        if cam is None or not self.hypotheses:
+    def _negative(self, percepts: Percepts | None, pose: RobotPose | None, dt: float, cs: tuple[float, float]) -> None:
+        """Hypotheses in view but not seen lose confidence fast; ``cs``: cos and sin of the
+        pose's heading (:func:`_heading`). The camera matrix is only asked for when there are
+        hypotheses."""
+        if not self.hypotheses or percepts is None:
             return
-        cs = _heading(pose)
+        cam = percepts.camera
+        if cam is None:
+            return
         view, loss = self.params.view_distance, self.params.negative_per_second * dt
+        c, s = cs
         for h in self.hypotheses:
-            rel = self._relative(h, pose, cs)
-            if rel is None or math.hypot(*rel) > view:
+            if h.source == "own":  # robot frame already (:meth:`_relative`, written out)
+                rx, ry = h.x, h.y
+            elif pose is None:
                 continue
-            if cam.sees(rel[0], rel[1], 0.05):
+            else:
+                dx, dy = h.x - pose.x, h.y - pose.y
+                rx, ry = c * dx + s * dy, -s * dx + c * dy
+            if math.hypot(rx, ry) > view:
+                continue
+            if cam.sees(rx, ry, 0.05):
                 h.confidence -= loss
 
     def _teammates(self, team: Sequence[TeamMessage], pose: RobotPose | None) -> None:
         p = self.params
+        max_age, decay = p.max_team_age, p.team_decay_per_second
+        hyps = self.hypotheses
         for m in team:
-            if not m.ball_valid or m.penalized or m.ball_age > p.max_team_age:
+            if not m.ball_valid or m.penalized or m.ball_age > max_age:
                 continue
-            conf = max(0.0, min(1.0, m.ball_confidence)) - p.team_decay_per_second * m.ball_age
-            hyps = self.hypotheses
-            for i, h in enumerate(hyps):  # at most one hypothesis per teammate
-                if h.source == "team" and h.sender == m.player:
+            conf = max(0.0, min(1.0, m.ball_confidence)) - decay * m.ball_age
+            player = m.player
+            for i, h in enumerate(hyps):  # at most one hypothesis per teammate: the latest, last
+                if h.sender == player and h.source == "team":
                     del hyps[i]
+                    h.x, h.y, h.confidence = m.ball_x, m.ball_y, conf
+                    hyps.append(h)
                     break
-            hyps.append(Hypothesis(m.ball_x, m.ball_y, conf, "team", m.player))
+            else:
+                hyps.append(Hypothesis(m.ball_x, m.ball_y, conf, "team", player))
 
-    def _belief(self, pose: RobotPose | None, seen: bool) -> BallBelief:
+    def _belief(self, pose: RobotPose | None, seen: bool, cs: tuple[float, float]) -> BallBelief:
         """The most confident hypothesis that can be placed in the robot frame (the first of
-        equals in list order), an own one when the ball is seen."""
+        equals in list order), an own one when the ball is seen; ``cs``: cos and sin of the
+        pose's heading (:func:`_heading`)."""
         p = self.params
         best = None
+        any_source = pose is not None and not seen  # else own hypotheses only
         for h in self.hypotheses:
-            if (h.source == "own" or (pose is not None and not seen)) and (
-                best is None or h.confidence > best.confidence
-            ):
+            if (any_source or h.source == "own") and (best is None or h.confidence > best.confidence):
                 best = h
         if best is None:
             return BallBelief(0.0, 0.0, 0.0, "invalid", "none", None)
-        rel = self._relative(best, pose, _heading(pose))
+        rel = self._relative(best, pose, cs)
         assert rel is not None
+        conf = best.confidence
         level: BallLevel = (
-            "valid"
-            if best.confidence >= p.valid_level
-            else ("suspicious" if best.confidence >= p.suspicious_level else "invalid")
+            "valid" if conf >= p.valid_level else ("suspicious" if conf >= p.suspicious_level else "invalid")
         )
         source = "vision" if seen else best.source
         look = rel if level == "suspicious" else None
-        return BallBelief(rel[0], rel[1], best.confidence, level, source, look)
+        return BallBelief(rel[0], rel[1], conf, level, source, look)

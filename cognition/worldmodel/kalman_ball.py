@@ -110,12 +110,23 @@ def _mul(a, b, out):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
+def _sandwich_into(g, p, t, out):  # pragma: no cover - compiled
+    """out = g p g^T, with ``t`` (rows of g x columns of p) as scratch; ``out`` may be ``p``
+    itself (p is read only into ``t``), not ``g``."""
+    _mul(g, p, t)
+    for i in range(g.shape[0]):
+        for j in range(g.shape[0]):
+            acc = 0.0
+            for k in range(t.shape[1]):
+                acc += t[i, k] * g[j, k]
+            out[i, j] = acc
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def _sandwich(g, p):  # pragma: no cover - compiled
     """g p g^T."""
-    t = np.empty((g.shape[0], p.shape[1]))
-    _mul(g, p, t)
     out = np.empty((g.shape[0], g.shape[0]))
-    _mul(t, g.T.copy(), out)
+    _sandwich_into(g, p, np.empty((g.shape[0], p.shape[1])), out)
     return out
 
 
@@ -148,57 +159,92 @@ def _inverse(a):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def _predict_nb(x, p, dt, deceleration, accel_sigma):  # pragma: no cover - compiled
+def _predict_into(x, p, dt, deceleration, accel_sigma, fc, t):  # pragma: no cover - compiled
+    """:func:`predict` in place in ``x`` and ``p``; ``fc`` and ``t`` (4 x 4) are scratch."""
     speed = math.sqrt(x[2] * x[2] + x[3] * x[3])
     new_speed = max(0.0, speed - deceleration * dt)
     k = new_speed / speed if speed > 1e-9 else 0.0
     travel = 0.5 * (1.0 + k) * dt  # mean speed over the step times dt, per unit of velocity
     if speed > 1e-9 and new_speed == 0.0:
         travel = 0.5 * speed / max(deceleration, 1e-9)  # it stops within the step
-    xo = np.array([x[0] + travel * x[2], x[1] + travel * x[3], k * x[2], k * x[3]])
-    fc = np.eye(4)  # friction slows the mean, not the uncertainty: a resting ball may be kicked
+    x[0], x[1], x[2], x[3] = x[0] + travel * x[2], x[1] + travel * x[3], k * x[2], k * x[3]
+    for i in range(4):  # friction slows the mean, not the uncertainty: a resting ball may be kicked
+        for j in range(4):
+            fc[i, j] = 1.0 if i == j else 0.0
     fc[0, 2] = dt
     fc[1, 3] = dt
-    po = _sandwich(fc, p)
+    _sandwich_into(fc, p, t, p)
     q = accel_sigma * accel_sigma  # continuous white acceleration of spectral density q
     for a in range(2):
-        po[a, a] += q * dt**3 / 3.0
-        po[a, a + 2] += q * dt**2 / 2.0
-        po[a + 2, a] += q * dt**2 / 2.0
-        po[a + 2, a + 2] += q * dt
+        p[a, a] += q * dt**3 / 3.0
+        p[a, a + 2] += q * dt**2 / 2.0
+        p[a + 2, a] += q * dt**2 / 2.0
+        p[a + 2, a + 2] += q * dt
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def _predict_nb(x, p, dt, deceleration, accel_sigma):  # pragma: no cover - compiled
+    xo, po = x.astype(np.float64), p.astype(np.float64)  # copies, float even for integer input
+    _predict_into(xo, po, dt, deceleration, accel_sigma, np.empty((4, 4)), np.empty((4, 4)))
     return xo, po
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def _move_nb(x, p, dx, dy, dtheta):  # pragma: no cover - compiled
+def _move_into(x, p, dx, dy, dtheta, g, t):  # pragma: no cover - compiled
+    """:func:`move_robot` in place in ``x`` and ``p``; ``g`` and ``t`` (4 x 4) are scratch."""
     c, s = math.cos(dtheta), math.sin(dtheta)
-    g = np.zeros((4, 4))
+    for i in range(4):
+        for j in range(4):
+            g[i, j] = 0.0
     g[0, 0] = g[1, 1] = g[2, 2] = g[3, 3] = c  # rotation by -dtheta on both blocks
     g[0, 1] = g[2, 3] = s
     g[1, 0] = g[3, 2] = -s
     px, py = x[0] - dx, x[1] - dy
-    xo = np.array([c * px + s * py, -s * px + c * py, c * x[2] + s * x[3], -s * x[2] + c * x[3]])
-    return xo, _sandwich(g, p)
+    x[0], x[1], x[2], x[3] = c * px + s * py, -s * px + c * py, c * x[2] + s * x[3], -s * x[2] + c * x[3]
+    _sandwich_into(g, p, t, p)
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def _move_nb(x, p, dx, dy, dtheta):  # pragma: no cover - compiled
+    xo, po = x.astype(np.float64), p.astype(np.float64)  # copies, float even for integer input
+    _move_into(xo, po, dx, dy, dtheta, np.empty((4, 4)), np.empty((4, 4)))
+    return xo, po
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def _update_into(x, p, z, r, work):  # pragma: no cover - compiled
+    """:func:`update` in place in ``x`` and ``p``; ``work`` (5 x 4 x 4) is scratch."""
+    m = z.shape[0]
+    s = p[:m, :m] + r  # H p H^T + R with H = [I 0] (m = 2) or I (m = 4)
+    si = _inverse(s)
+    k = work[0, :, :m]
+    _mul(p[:, :m], si, k)  # p H^T s^-1
+    innovation = work[1, 0, :m]
+    for j in range(m):
+        innovation[j] = z[j] - x[j]
+    for i in range(4):
+        for j in range(m):
+            x[i] += k[i, j] * innovation[j]
+    ikh = work[2]
+    for i in range(4):
+        for j in range(4):
+            ikh[i, j] = 1.0 if i == j else 0.0
+    for i in range(4):
+        for j in range(m):
+            ikh[i, j] -= k[i, j]
+    a, b = work[3], work[4]
+    _sandwich_into(ikh, p, work[1], a)  # Joseph form: stays symmetric and positive
+    _sandwich_into(k, r, work[1, :, :m], b)
+    for i in range(4):
+        for j in range(4):
+            p[i, j] = 0.5 * ((a[i, j] + b[i, j]) + (a[j, i] + b[j, i]))
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def _update_nb(x, p, z, r):  # pragma: no cover - compiled
-    m = z.shape[0]
-    s = p[:m, :m] + r  # H p H^T + R with H = [I 0] (m = 2) or I (m = 4)
-    si = _inverse(s)
-    pht = p[:, :m].copy()  # p H^T
-    k = np.empty((4, m))
-    _mul(pht, si, k)
-    xo = x.copy()
-    for i in range(4):
-        for j in range(m):
-            xo[i] += k[i, j] * (z[j] - x[j])
-    ikh = np.eye(4)
-    for i in range(4):
-        for j in range(m):
-            ikh[i, j] -= k[i, j]
-    po = _sandwich(ikh, p) + _sandwich(k, r)  # Joseph form: stays symmetric and positive
-    return xo, 0.5 * (po + po.T)
+    xo, po = x.astype(np.float64), p.astype(np.float64)  # copies, float even for integer input
+    _update_into(xo, po, z, r, np.empty((5, 4, 4)))
+    return xo, po
 
 
 def predict(
@@ -294,8 +340,11 @@ def _size_nb(radius_px, focal_px, ball_radius, height):  # pragma: no cover - co
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def predict_move_nb(x, p, dt, deceleration, accel_sigma, dx, dy, dtheta):  # pragma: no cover - compiled
     """:func:`predict` then :func:`move_robot` in one call."""
-    x1, p1 = _predict_nb(x, p, dt, deceleration, accel_sigma)
-    return _move_nb(x1, p1, dx, dy, dtheta)
+    xo, po = x.astype(np.float64), p.astype(np.float64)  # copies, float even for integer input
+    g, t = np.empty((4, 4)), np.empty((4, 4))
+    _predict_into(xo, po, dt, deceleration, accel_sigma, g, t)
+    _move_into(xo, po, dx, dy, dtheta, g, t)
+    return xo, po
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
@@ -331,9 +380,9 @@ def measure_rows_nb(
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def gated_update_nb(x, p, zs, rs, gate):  # pragma: no cover - compiled
-    """Update with the measurement (of ``zs``, ``rs``) nearest to the prediction by Mahalanobis
-    distance, if that distance squared is at most ``gate``. Returns (x, p, updated, best index)."""
+def _nearest(x, p, zs, rs):  # pragma: no cover - compiled
+    """Index of the measurement (of ``zs``, ``rs``) nearest to the prediction by Mahalanobis
+    distance, and that distance squared (1e300 without measurements)."""
     best, best_m2 = 0, 1e300
     for i in range(zs.shape[0]):
         ex, ey = zs[i, 0] - x[0], zs[i, 1] - x[1]
@@ -341,6 +390,14 @@ def gated_update_nb(x, p, zs, rs, gate):  # pragma: no cover - compiled
         m2 = (d * ex * ex - 2.0 * b * ex * ey + a * ey * ey) / max(a * d - b * b, 1e-18)
         if m2 < best_m2:
             best, best_m2 = i, m2
+    return best, best_m2
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def gated_update_nb(x, p, zs, rs, gate):  # pragma: no cover - compiled
+    """Update with the measurement (of ``zs``, ``rs``) nearest to the prediction by Mahalanobis
+    distance, if that distance squared is at most ``gate``. Returns (x, p, updated, best index)."""
+    best, best_m2 = _nearest(x, p, zs, rs)
     if best_m2 > gate:
         return x, p, False, best
     xo, po = _update_nb(x, p, zs[best].copy(), rs[best].copy())
@@ -395,10 +452,10 @@ def own_frame_nb(
     latest best percept. Returns True when a percept updated or started the state.
     """
     has = status[0] == 1
-    if has:
-        xo, po = predict_move_nb(x, p, dt, deceleration, accel_sigma, dx, dy, dtheta)
-        x[:] = xo
-        p[:, :] = po
+    work = np.empty((5, 4, 4))  # scratch of the steps below, which work in place
+    if has:  # predict_move_nb
+        _predict_into(x, p, dt, deceleration, accel_sigma, work[0], work[1])
+        _move_into(x, p, dx, dy, dtheta, work[0], work[1])
     if rows.shape[0] == 0:
         return False
     zs, rs = measure_rows_nb(
@@ -409,11 +466,10 @@ def own_frame_nb(
         _start_nb(x, p, zs[0], rs[0], velocity_var)
         status[0] = 1
         return True
-    xo, po, updated, best = gated_update_nb(x, p, zs, rs, gate)
-    if updated:
+    best, best_m2 = _nearest(x, p, zs, rs)  # gated_update_nb
+    if not best_m2 > gate:
+        _update_into(x, p, zs[best], rs[best], work)
         status[1] = 0
-        x[:] = xo
-        p[:, :] = po
         return True
     status[1] += 1  # an outlier, or the ball was moved: restart after restart_after in a row
     if status[1] >= restart_after:
@@ -460,3 +516,64 @@ def publish_nb(x, p, has_pose, px, py, pth, lim_x, lim_y, out):  # pragma: no co
         out[1] = px + c * x[0] - s * x[1]
         out[2] = py + s * x[0] + c * x[1]
     return True
+
+
+FRAME_SEEN = 1
+"""A :func:`frame_nb` flag: a percept updated or started the state."""
+FRAME_TEAM = 2
+"""A :func:`frame_nb` flag: not published, a teammate's ball is to be used first."""
+FRAME_PUBLISHED = 4
+"""A :func:`frame_nb` flag: the state was published (finite); without it, and without
+``FRAME_TEAM``, the state is no longer finite."""
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def frame_nb(
+    x,
+    p,
+    status,
+    dt,
+    deceleration,
+    accel_sigma,
+    dx,
+    dy,
+    dtheta,
+    rows,
+    foot_x,
+    foot_y,
+    height,
+    focal,
+    ball_radius,
+    fixed_sigma,
+    size_sigma_px,
+    sigmas_at_prediction,
+    gate,
+    restart_after,
+    velocity_var,
+    team_threshold,
+    has_pose,
+    px,
+    py,
+    pth,
+    lim_x,
+    lim_y,
+    out,
+):  # pragma: no cover - compiled
+    """A frame of :class:`cognition.worldmodel.ball.KalmanBallModel` with a state or a percept in
+    one call: :func:`own_frame_nb` (the arguments up to ``velocity_var``), then
+    :func:`publish_nb` (``has_pose`` to ``out``), unless no percept updated the state, a
+    teammate's ball may be used (``team_threshold`` >= 0, m^2) and the position variance (trace
+    of the position block, m^2) exceeds ``team_threshold``: then it returns :data:`FRAME_TEAM`
+    alone and the caller updates from the teammates before it publishes. Otherwise it returns
+    :data:`FRAME_SEEN` if a percept updated or started the state, plus
+    :data:`FRAME_PUBLISHED` if the state was finite and published."""
+    seen = own_frame_nb(
+        x, p, status, dt, deceleration, accel_sigma, dx, dy, dtheta, rows, foot_x, foot_y, height, focal, ball_radius,
+        fixed_sigma, size_sigma_px, sigmas_at_prediction, gate, restart_after, velocity_var,
+    )  # fmt: skip
+    if not seen and team_threshold >= 0.0 and p[0, 0] + p[1, 1] > team_threshold:
+        return FRAME_TEAM
+    flags = FRAME_SEEN if seen else 0
+    if publish_nb(x, p, has_pose, px, py, pth, lim_x, lim_y, out):
+        flags |= FRAME_PUBLISHED
+    return flags

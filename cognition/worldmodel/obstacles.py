@@ -51,7 +51,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.params import Range, Ranges, check_number, check_ranges, non_negative, positive
-from cognition.percepts import Col, Kind, Percepts
+from cognition.percepts import N_KINDS, Col, Kind, Percepts
 from cognition.representations import OdometryReading
 from cognition.worldmodel.kalman_ball import camera_measurement
 
@@ -200,14 +200,9 @@ class ObstacleSectors:
     def update(self, time: float, odometry: OdometryReading, percepts: Percepts | None) -> ObstacleModel:
         """Move with the odometry (per sector's obstacle point), forget old ones, add percepts."""
         self.time = time
+        table, offsets = (_NO_ROBOTS, _NO_OFFSETS) if percepts is None else percepts.table_and_offsets
         o = odometry
-        table, lo, hi = _NO_ROBOTS, 0, 0
-        if percepts is not None:
-            table, offsets = percepts.table_and_offsets
-            lo, hi = int(offsets[_ROBOT]), int(offsets[_ROBOT + 1])
-        points = _sectors_frame_nb(
-            self.distance, self.stamp, time, self.memory, o.dx, o.dy, o.dtheta, table, lo, hi, _CX, _CY
-        )  # fmt: skip
+        points = _sectors_frame_nb(self.distance, self.stamp, time, self.memory, o.dx, o.dy, o.dtheta, table, offsets)
         return ObstacleModel(points, None, 0.0)
 
     def model(self) -> ObstacleModel:
@@ -216,6 +211,8 @@ class ObstacleSectors:
 
 
 _NO_ROBOTS = np.zeros((0, len(Col)))
+_NO_OFFSETS = np.zeros(N_KINDS + 1, dtype=np.int64)
+"""The percept table and offsets of no percepts (:meth:`ObstacleSectors.update`)."""
 _CX, _CY = int(Col.X), int(Col.Y)
 _ROBOT = int(Kind.ROBOT)
 
@@ -274,8 +271,10 @@ def _sector_points_nb(distance):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def _sectors_frame_nb(distance, stamp, time, memory, dx, dy, dth, table, lo, hi, cx, cy):  # pragma: no cover - compiled
-    """:func:`_sectors_update_nb` with the robot percepts ``table[lo:hi]``, then
+def _sectors_frame_nb(distance, stamp, time, memory, dx, dy, dth, table, offsets):  # pragma: no cover - compiled
+    """:func:`_sectors_update_nb` with the robot percepts of ``table`` (kind ``Kind.ROBOT`` of
+    the percept ``offsets``; the point at columns ``Col.X``, ``Col.Y``), then
     :func:`_sector_points_nb`: one frame of :class:`ObstacleSectors` in one call."""
-    _sectors_update_nb(distance, stamp, time, memory, dx, dy, dth, table[lo:hi], cx, cy)
+    robots = table[offsets[_ROBOT] : offsets[_ROBOT + 1]]
+    _sectors_update_nb(distance, stamp, time, memory, dx, dy, dth, robots, _CX, _CY)
     return _sector_points_nb(distance)

@@ -96,6 +96,7 @@ class TeamState:
 
     def update(self, frame: SensorFrame) -> list[TeamMessage]:
         """Read this frame's messages; returns the current (not too old) teammates' messages."""
+        time = frame.time
         for m in frame.messages:
             try:
                 msg = unpack(m.payload)
@@ -108,9 +109,13 @@ class TeamState:
             if not self.on_carpet(msg):
                 self._reject("off_field")
                 continue
-            self.latest[msg.player] = (frame.time, msg)
-        self.latest = {k: v for k, v in self.latest.items() if frame.time - v[0] <= self.max_age}
-        return [msg for _, msg in self.latest.values()]
+            self.latest[msg.player] = (time, msg)
+        latest, max_age = self.latest, self.max_age
+        for received, _ in latest.values():
+            if not time - received <= max_age:  # one is too old: keep the others, in their order
+                self.latest = latest = {k: v for k, v in latest.items() if time - v[0] <= max_age}
+                break
+        return [msg for _, msg in latest.values()]
 
     def on_carpet(self, msg: TeamMessage) -> bool:
         """Whether the message's pose and ball both lie within :attr:`limits`."""
@@ -126,7 +131,7 @@ def rotate_covariance(p: NDArray[np.float64], theta: float) -> tuple[float, floa
     """(xx, xy, yy) of the upper-left 2 x 2 block of ``p`` rotated by ``theta`` (rad): a
     robot-frame position covariance expressed in the team frame of a robot heading ``theta``."""
     c, s = math.cos(theta), math.sin(theta)
-    a, b, d = float(p[0, 0]), float(p[0, 1]), float(p[1, 1])
+    (a, b), (_, d) = p[:2, :2].tolist()
     return (
         c * c * a - 2 * c * s * b + s * s * d,
         c * s * (a - d) + (c * c - s * s) * b,
@@ -146,33 +151,33 @@ def team_ball(
 
     ``limits``: largest abs(x) and abs(y) (m) of the fused mean (module docstring); ``None``
     leaves it unclipped."""
+    # every estimate: position (m), 2 x 2 covariance (xx, xy, yy; m^2), the variance added to
+    # both diagonal entries (m^2) and the player number; the own one first
+    reports: list[tuple[float, float, float, float, float, float, int]] = []
+    if own is not None and own_pose is not None and own.level != "invalid" and math.isfinite(own.field_x):
+        (c00, _), (_, c11) = own_pose.covariance[:2, :2].tolist()
+        # own ball covariance rotated into the team frame, plus the pose's position variance
+        cxx, cxy, cyy = rotate_covariance(own.covariance, own_pose.theta)
+        extra = 0.5 * (c00 + c11) + age_variance_per_second * own.age
+        reports.append((own.field_x, own.field_y, cxx, cxy, cyy, extra, own_number))
+    for m in mates:
+        if not m.ball_valid or m.penalized:
+            continue
+        extra = m.pose_std**2 + age_variance_per_second * m.ball_age
+        reports.append((m.ball_x, m.ball_y, m.ball_cov_xx, m.ball_cov_xy, m.ball_cov_yy, extra, m.player))
     ix = ixy = iy = 0.0  # summed information matrix
     vx = vy = 0.0  # summed information vector
     who: list[int] = []
-
-    def add(bx: float, by: float, cxx: float, cxy: float, cyy: float, extra: float, number: int) -> None:
-        nonlocal ix, ixy, iy, vx, vy
+    for bx, by, cxx, cxy, cyy, extra, number in reports:
         a, b, d = cxx + extra, cxy, cyy + extra
         det = a * d - b * b
         if not (det > 1e-12 and math.isfinite(det) and a > 0.0 and math.isfinite(bx) and math.isfinite(by)):
-            return  # degenerate, infinitely uncertain or nowhere
+            continue  # degenerate, infinitely uncertain or nowhere
         ia, ib, idd = d / det, -b / det, a / det
         ix, ixy, iy = ix + ia, ixy + ib, iy + idd
         vx += ia * bx + ib * by
         vy += ib * bx + idd * by
         who.append(number)
-
-    if own is not None and own_pose is not None and own.level != "invalid" and math.isfinite(own.field_x):
-        c = own_pose.covariance
-        # own ball covariance rotated into the team frame, plus the pose's position variance
-        cxx, cxy, cyy = rotate_covariance(own.covariance, own_pose.theta)
-        add(own.field_x, own.field_y, cxx, cxy, cyy, 0.5 * (c[0, 0] + c[1, 1]) + age_variance_per_second * own.age,
-            own_number)  # fmt: skip
-    for m in mates:
-        if not m.ball_valid or m.penalized:
-            continue
-        extra = m.pose_std**2 + age_variance_per_second * m.ball_age
-        add(m.ball_x, m.ball_y, m.ball_cov_xx, m.ball_cov_xy, m.ball_cov_yy, extra, m.player)
     if not who:
         return None
     det = ix * iy - ixy * ixy
@@ -181,5 +186,6 @@ def team_ball(
     cxx, cxy, cyy = iy / det, -ixy / det, ix / det
     x, y = cxx * vx + cxy * vy, cxy * vx + cyy * vy
     if limits is not None:
-        x, y = min(max(x, -limits[0]), limits[0]), min(max(y, -limits[1]), limits[1])
+        lx, ly = limits
+        x, y = min(max(x, -lx), lx), min(max(y, -ly), ly)
     return TeamBallEstimate(x, y, cxx, cxy, cyy, tuple(who))
