@@ -16,7 +16,12 @@ import cognition.camera as camera
 import cognition.gamestate as gamestate
 import cognition.oracle as oracle
 import cognition.representations as reps
+import cognition.worldmodel.goal as goal
+import cognition.worldmodel.hypotheses as hypotheses
+import cognition.worldmodel.messages as messages
+import cognition.worldmodel.obstacles as obstacles
 import cognition.worldmodel.representations as wm_reps
+import cognition.worldmodel.team as team
 import teamsim.odometry as odometry
 import teamsim.world as world
 from cognition.records import fast_init
@@ -33,9 +38,10 @@ def _twin(cls: type) -> type:
     return dataclass(frozen=True)(type(cls.__name__, (), namespace))
 
 
+MODULES = (reps, wm_reps, oracle, odometry, gamestate, camera, world, goal, hypotheses, messages, obstacles, team)
 RECORDS = [
     obj
-    for module in (reps, wm_reps, oracle, odometry, gamestate, camera, world)
+    for module in MODULES
     for obj in vars(module).values()
     if isinstance(obj, type) and obj.__module__ == module.__name__ and obj.__init__.__module__ == module.__name__
     and dataclasses.is_dataclass(obj) and obj.__init__.__qualname__ == f"{obj.__qualname__}.__init__"
@@ -46,7 +52,8 @@ RECORDS = [
 def test_the_hot_records_have_the_fast_constructor() -> None:
     names = {cls.__name__ for cls in RECORDS}
     hot = {"SensorFrame", "RobotPose", "BallModel", "MotionRequest", "Beliefs", "Teammate", "TrueOdometry"}
-    assert hot | {"GameControlData", "TeamInfo", "RobotInfo", "CollisionEvent", "CameraMatrix", "CameraImage"} <= names
+    hot |= {"GameControlData", "TeamInfo", "RobotInfo", "CollisionEvent", "CameraMatrix", "CameraImage"}
+    assert hot | {"BallBelief", "GoalEstimate", "ObstacleModel", "TeamBallEstimate", "TeamMessage"} <= names
 
 
 @pytest.mark.parametrize("cls", RECORDS, ids=lambda c: c.__name__)

@@ -34,12 +34,14 @@ from numpy.typing import NDArray
 
 from cognition.params import Ranges, check_number, check_ranges, positive
 from cognition.percepts import Col, Kind, Percepts
+from cognition.records import fast_init
 
 _TAU = 2 * math.pi
 _POST = int(Kind.POST)
 _X, _Y = int(Col.X), int(Col.Y)
 
 
+@fast_init
 @dataclass(frozen=True)
 class GoalEstimate:
     """The goal as the robot sees it (robot frame)."""

@@ -44,6 +44,7 @@ from typing import ClassVar
 
 from cognition.params import PROBABILITY, Ranges, check_ranges, non_negative, positive
 from cognition.percepts import Col, Kind, Percepts
+from cognition.records import fast_init
 from cognition.representations import BallLevel, RobotPose, SensorFrame
 from cognition.worldmodel.messages import TeamMessage
 
@@ -107,6 +108,7 @@ class Hypothesis:
     sender: int = 0
 
 
+@fast_init
 @dataclass(frozen=True)
 class BallBelief:
     """The best hypothesis (robot frame, m) with its level and the active-gaze request."""

@@ -65,6 +65,7 @@ from dataclasses import dataclass
 from enum import IntEnum
 
 from cognition.gamestate import TEAM_MESSAGE_MAX_BYTES
+from cognition.records import fast_init
 
 MAGIC = b"TS"
 VERSION = 1
@@ -112,6 +113,7 @@ class Role(IntEnum):
     DEFENDER = 4
 
 
+@fast_init
 @dataclass(frozen=True)
 class TeamMessage:
     """One robot's report to its team (team frame; fields as in the module docstring)."""

@@ -52,6 +52,7 @@ from numpy.typing import NDArray
 
 from cognition.params import Range, Ranges, check_number, check_ranges, non_negative, positive
 from cognition.percepts import N_KINDS, Col, Kind, Percepts
+from cognition.records import fast_init
 from cognition.representations import OdometryReading
 from cognition.worldmodel.kalman_ball import camera_measurement
 
@@ -60,6 +61,7 @@ MAX_GRID_CELLS = 500
 """Largest number of grid cells per side (250,000 cells, 2 MB of log-odds per robot)."""
 
 
+@fast_init
 @dataclass(frozen=True)
 class ObstacleModel:
     """Obstacles around the robot (robot frame, m)."""

@@ -44,6 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cognition.field import Field
+from cognition.records import fast_init
 from cognition.representations import BallModel, RobotPose, SensorFrame
 from cognition.worldmodel.messages import REJECT_REASONS, MalformedMessageError, TeamMessage, unpack
 
@@ -51,6 +52,7 @@ TEAM_REJECT_REASONS = (*REJECT_REASONS, "sender", "off_field")
 """Every reason :class:`TeamState` counts a rejected message under (module docstring)."""
 
 
+@fast_init
 @dataclass(frozen=True)
 class TeamBallEstimate:
     """The team's ball (team frame, m) with its 2 x 2 covariance and who contributed."""
