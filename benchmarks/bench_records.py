@@ -29,19 +29,10 @@ from pathlib import Path
 from typing import Any
 
 from benchmarks.common import write_figures
+from cognition.records import dataclass_twin
 from cognition.representations import BallModel, HeadRequest, MotionRequest, RobotPose, SensorFrame, WalkRequest
 from cognition.worldmodel.representations import Beliefs, Teammate
 from teamsim.match import Match, MatchConfig
-
-
-def _twin(cls: type) -> type:
-    """``cls`` with the ``__init__`` of ``dataclass(frozen=True)`` (same fields and checks)."""
-    namespace: dict[str, Any] = {"__annotations__": {f.name: f.type for f in dataclasses.fields(cls)}}
-    for f in dataclasses.fields(cls):
-        namespace[f.name] = dataclasses.field(default=f.default, default_factory=f.default_factory, init=f.init)
-    if hasattr(cls, "__post_init__"):
-        namespace["__post_init__"] = cls.__post_init__
-    return dataclasses.dataclass(frozen=True)(type(cls.__name__, (), namespace))
 
 
 def _time(build: Callable[[], object], number: int, repeats: int) -> float:
@@ -70,7 +61,7 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     for sample in samples:
         cls = type(sample)
         values = [getattr(sample, f.name) for f in dataclasses.fields(sample)]
-        twin = _twin(cls)
+        twin = dataclass_twin(cls)
         fast = _time(lambda cls=cls, values=values: cls(*values), args.number, args.repeats)
         slow = _time(lambda twin=twin, values=values: twin(*values), args.number, args.repeats)
         figures[f"{cls.__name__}_fast_us"], figures[f"{cls.__name__}_dataclass_us"] = fast, slow

@@ -24,19 +24,7 @@ import cognition.worldmodel.representations as wm_reps
 import cognition.worldmodel.team as team
 import teamsim.odometry as odometry
 import teamsim.world as world
-from cognition.records import fast_init
-
-
-def _twin(cls: type) -> type:
-    """A dataclass with the same fields and ``__post_init__`` as ``cls`` but the ``__init__``
-    that ``dataclass(frozen=True)`` writes (the reference)."""
-    namespace = {"__annotations__": {f.name: f.type for f in dataclasses.fields(cls)}}
-    for f in dataclasses.fields(cls):
-        namespace[f.name] = field(default=f.default, default_factory=f.default_factory, init=f.init, kw_only=f.kw_only)  # type: ignore[call-overload]
-    if hasattr(cls, "__post_init__"):
-        namespace["__post_init__"] = cls.__post_init__
-    return dataclass(frozen=True)(type(cls.__name__, (), namespace))
-
+from cognition.records import dataclass_twin, fast_init
 
 MODULES = (reps, wm_reps, oracle, odometry, gamestate, camera, world, goal, hypotheses, messages, obstacles, team)
 RECORDS = [
@@ -59,7 +47,7 @@ def test_the_hot_records_have_the_fast_constructor() -> None:
 @pytest.mark.parametrize("cls", RECORDS, ids=lambda c: c.__name__)
 def test_same_signature_as_the_dataclass_constructor(cls: type) -> None:
     ours = inspect.signature(cls)
-    reference = inspect.signature(_twin(cls))
+    reference = inspect.signature(dataclass_twin(cls))
     assert list(ours.parameters) == list(reference.parameters)
     for name, p in ours.parameters.items():
         q = reference.parameters[name]
@@ -116,7 +104,7 @@ def test_every_field_form_behaves_as_in_a_dataclass() -> None:
 
 def test_records_equal_the_dataclass_construction() -> None:
     pose_args = (1.0, -2.0, 0.5, np.eye(3), True, 7, np.zeros((7, 3)), np.full(7, 1 / 7), "maturing")
-    ours, reference = reps.RobotPose(*pose_args), _twin(reps.RobotPose)(*pose_args)
+    ours, reference = reps.RobotPose(*pose_args), dataclass_twin(reps.RobotPose)(*pose_args)
     assert dataclasses.asdict(ours).keys() == dataclasses.asdict(reference).keys()
     assert all(getattr(ours, n) is getattr(reference, n) for n in dataclasses.asdict(reference))
     assert reps.MotionRequest() == reps.MotionRequest(reps.WalkRequest(), None, reps.HeadRequest())
