@@ -36,7 +36,6 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.camera import CameraSpec
 from cognition.percepts import N_COLS, Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
 from cognition.worldmodel.kalman_ball import (
@@ -96,8 +95,6 @@ class KalmanBallModel:
         self._consts_of: KalmanBallParams | None = None
         self._consts: tuple[float, float, float, float, bool, float, float] = (0.0, 0.0, 0.0, 0.0, False, 0.0, 0.0)
         """The kernel's view of ``params`` (:meth:`_kernel_constants`), for the params object ``_consts_of``."""
-        self._focal: dict[int, tuple[CameraSpec, float]] = {}
-        """Focal length (px, the mean of fx and fy) per camera spec, by ``id`` (the spec kept alive)."""
 
     def update(self, frame: SensorFrame, pose: RobotPose | None = None, team: Sequence[TeamMessage] = ()) -> BallModel:
         """One frame (robot frame results; ``pose`` only for field coordinates and team balls)."""
@@ -168,11 +165,8 @@ class KalmanBallModel:
         if cam is None:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
         spec = cam.spec
-        known = self._focal.get(id(spec))
-        if known is None or known[0] is not spec:
-            known = self._focal[id(spec)] = (spec, 0.5 * (spec.fx + spec.fy))
         foot_x, foot_y, foot_z = cam.position.tolist()  # distances are from the camera's foot
-        return table[lo:hi], foot_x, foot_y, foot_z - self.ball_radius, known[1]
+        return table[lo:hi], foot_x, foot_y, foot_z - self.ball_radius, 0.5 * (spec.fx + spec.fy)
 
     def _needs_team(self) -> bool:
         """Whether the own position variance (trace, m^2) exceeds ``team_threshold`` (or there is no state)."""
