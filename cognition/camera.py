@@ -250,16 +250,19 @@ class CameraMatrix:
         """True if the robot-frame point (x, y, z) (m) is in front of the camera and projects
         inside the image: :meth:`project` then :meth:`in_image` for one point, without arrays
         (the world model asks this for single points every frame)."""
-        c, r = self.position, self.rotation
-        dx, dy, dz = x - float(c[0]), y - float(c[1]), z - float(c[2])
-        qx = dx * float(r[0, 0]) + dy * float(r[1, 0]) + dz * float(r[2, 0])
+        c0, c1, c2 = self.position.tolist()  # Python floats: one call, not one per entry
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = self.rotation.tolist()
+        dx, dy, dz = x - c0, y - c1, z - c2
+        qx = dx * r00 + dy * r10 + dz * r20
         if not qx > 1e-9:
             return False
-        qy = dx * float(r[0, 1]) + dy * float(r[1, 1]) + dz * float(r[2, 1])
-        qz = dx * float(r[0, 2]) + dy * float(r[1, 2]) + dz * float(r[2, 2])
+        qy = dx * r01 + dy * r11 + dz * r21
+        qz = dx * r02 + dy * r12 + dz * r22
         s = self.spec
-        u, v = s.cx - s.fx * qy / qx, s.cy - s.fy * qz / qx
-        return 0.0 <= u < s.width and 0.0 <= v < s.height
+        w, h = s.width, s.height
+        cx, cy = w / 2.0, h / 2.0  # the spec's cx, cy, fx and fy, written out
+        u, v = cx - (cx / math.tan(s.hfov / 2.0)) * qy / qx, cy - (cy / math.tan(s.vfov / 2.0)) * qz / qx
+        return 0.0 <= u < w and 0.0 <= v < h
 
     def in_image(self, uv: ArrayLike) -> NDArray[np.bool_]:
         """True for pixels inside the image (NaN pixels are outside)."""
