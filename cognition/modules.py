@@ -241,12 +241,16 @@ class TeamBallModule:
     def __init__(self, context: BrainContext, config: CognitionConfig) -> None:
         self.player_number = context.player_number
         self.limits = carpet_limits(context.field)
+        self.terms: dict[int, tuple[TeamMessage, float, tuple[float, float, float, float, float] | None]] = {}
+        """The teammates' messages' terms of the fusion (the memo of :func:`team_ball`)."""
 
     def run(self, board: Blackboard) -> None:
         assert board.ball is not None and board.pose is not None
-        board.team_ball = team_ball(
-            board.ball, board.pose, self.player_number, board.teammates or (), limits=self.limits
-        )
+        mates = board.teammates or ()
+        terms = self.terms
+        board.team_ball = team_ball(board.ball, board.pose, self.player_number, mates, limits=self.limits, terms=terms)
+        if len(terms) > 2 * len(mates) + 8:  # forget messages that no longer count
+            self.terms = {k: v for k, v in terms.items() if any(v[0] is m for m in mates)}
 
 
 class ObstacleModule:

@@ -236,3 +236,40 @@ def test_ball_model_drops_a_non_finite_state_instead_of_reporting_a_certain_ball
     assert b.level == "invalid" and b.source == "none" and model.x is None  # max(0, nan) read as sd 0: "valid"
     model.x, model.p = np.array([np.nan, 0.0, 0.0, 0.0]), np.eye(4) * 0.01
     assert model.update(_frame(0.1), _pose()).level == "invalid"
+
+
+def test_the_message_memo_gives_the_fusion_of_no_memo_to_the_bit():
+    """Frames of changing teammates (kept, replaced, degenerate, non-finite, invalid) and own
+    balls: with one memo kept over all frames, the team ball equals the one computed without
+    it, every field to the bit; a memo entry of another ``age_variance_per_second`` is not reused."""
+    g = np.random.default_rng(7)
+
+    def message(player: int) -> TeamMessage:
+        kind = g.integers(0, 10)
+        cov = (0.0, 0.0, 0.0) if kind == 0 else (g.uniform(1e-4, 1.0), g.uniform(-1e-4, 1e-4), g.uniform(1e-4, 1.0))
+        return TeamMessage(
+            player=player, ball_x=float(g.uniform(-4, 4)), ball_y=float(g.uniform(-3, 3)), ball_cov_xx=cov[0],
+            ball_cov_xy=cov[1], ball_cov_yy=cov[2], ball_valid=bool(kind != 1), penalized=bool(kind == 2),
+            pose_std=float(g.uniform(0.0, 0.5)), ball_age=float(g.uniform(0.0, 2.0)),
+        )  # fmt: skip
+
+    mates = {p: message(p) for p in (2, 3, 4, 5)}
+    memo: dict = {}
+    fused = 0
+    for frame in range(300):
+        for p in mates:
+            if g.random() < 0.1:
+                mates[p] = message(p)
+        current = [mates[p] for p in sorted(mates) if g.random() < 0.8]
+        cov = np.diag([g.uniform(1e-3, 0.2), g.uniform(1e-3, 0.2), 0.1, 0.1])
+        own = BallModel(
+            float(g.uniform(-1, 1)), float(g.uniform(-1, 1)), 0.0, 0.0, cov, float(g.uniform(-4, 4)),
+            float(g.uniform(-3, 3)), float(g.uniform(0, 1)), "valid" if frame % 7 else "invalid", "vision",
+        )  # fmt: skip
+        pose = _pose(float(g.uniform(-4, 4)), float(g.uniform(-3, 3)), float(g.uniform(-3, 3)), var=0.02)
+        avps = 0.25 if frame % 50 else 0.5
+        plain = team_ball(own, pose, 1, current, age_variance_per_second=avps, limits=LIMITS)
+        kept = team_ball(own, pose, 1, current, age_variance_per_second=avps, limits=LIMITS, terms=memo)
+        assert repr(kept) == repr(plain)
+        fused += plain is not None and len(plain.contributors) > 2
+    assert fused > 100 and len(memo) > 4  # teammates were fused, from the memo

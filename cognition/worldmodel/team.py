@@ -141,6 +141,21 @@ def rotate_covariance(p: NDArray[np.float64], theta: float) -> tuple[float, floa
     )
 
 
+def _information(
+    bx: float, by: float, cxx: float, cxy: float, cyy: float, extra: float
+) -> tuple[float, float, float, float, float] | None:
+    """One estimate's terms of the fused sums: its information matrix (xx, xy, yy) and
+    information vector (x, y), for a ball at (``bx``, ``by``) with covariance (``cxx``,
+    ``cxy``, ``cyy``) plus ``extra`` on both diagonal entries (m, m^2, team frame); ``None`` for
+    a degenerate, infinitely uncertain or non-finite estimate (left out of the fusion)."""
+    a, b, d = cxx + extra, cxy, cyy + extra
+    det = a * d - b * b
+    if not (det > 1e-12 and math.isfinite(det) and a > 0.0 and math.isfinite(bx) and math.isfinite(by)):
+        return None
+    ia, ib, idd = d / det, -b / det, a / det
+    return ia, ib, idd, ia * bx + ib * by, ib * bx + idd * by
+
+
 def team_ball(
     own: BallModel | None,
     own_pose: RobotPose | None,
@@ -148,38 +163,49 @@ def team_ball(
     mates: Sequence[TeamMessage],
     age_variance_per_second: float = 0.25,
     limits: tuple[float, float] | None = None,
+    terms: dict[int, tuple[TeamMessage, float, tuple[float, float, float, float, float] | None]] | None = None,
 ) -> TeamBallEstimate | None:
     """Information-weighted fusion of the own and the teammates' balls (team frame).
 
     ``limits``: largest abs(x) and abs(y) (m) of the fused mean (module docstring); ``None``
-    leaves it unclipped."""
-    # every estimate: position (m), 2 x 2 covariance (xx, xy, yy; m^2), the variance added to
-    # both diagonal entries (m^2) and the player number; the own one first
-    reports: list[tuple[float, float, float, float, float, float, int]] = []
+    leaves it unclipped. ``terms``: a memo the caller keeps from frame to frame (``None``: none).
+    A teammate's message (frozen) adds the same information to the sums in every frame it
+    counts, so its terms are computed once per message and ``age_variance_per_second`` (keyed by
+    the message's ``id``, checked by identity) and added in the same order as without the memo:
+    the result is the same to the bit."""
+    ix = ixy = iy = 0.0  # summed information matrix
+    vx = vy = 0.0  # summed information vector
+    who: list[int] = []
     if own is not None and own_pose is not None and own.level != "invalid" and math.isfinite(own.field_x):
         (c00, _), (_, c11) = own_pose.covariance[:2, :2].tolist()
         # own ball covariance rotated into the team frame, plus the pose's position variance
         cxx, cxy, cyy = rotate_covariance(own.covariance, own_pose.theta)
         extra = 0.5 * (c00 + c11) + age_variance_per_second * own.age
-        reports.append((own.field_x, own.field_y, cxx, cxy, cyy, extra, own_number))
+        own_terms = _information(own.field_x, own.field_y, cxx, cxy, cyy, extra)
+        if own_terms is not None:  # the own estimate first
+            ia, ib, idd, tx, ty = own_terms
+            ix, ixy, iy = ix + ia, ixy + ib, iy + idd
+            vx += tx
+            vy += ty
+            who.append(own_number)
     for m in mates:
         if not m.ball_valid or m.penalized:
             continue
-        extra = m.pose_std**2 + age_variance_per_second * m.ball_age
-        reports.append((m.ball_x, m.ball_y, m.ball_cov_xx, m.ball_cov_xy, m.ball_cov_yy, extra, m.player))
-    ix = ixy = iy = 0.0  # summed information matrix
-    vx = vy = 0.0  # summed information vector
-    who: list[int] = []
-    for bx, by, cxx, cxy, cyy, extra, number in reports:
-        a, b, d = cxx + extra, cxy, cyy + extra
-        det = a * d - b * b
-        if not (det > 1e-12 and math.isfinite(det) and a > 0.0 and math.isfinite(bx) and math.isfinite(by)):
-            continue  # degenerate, infinitely uncertain or nowhere
-        ia, ib, idd = d / det, -b / det, a / det
+        memo = None if terms is None else terms.get(id(m))
+        if memo is not None and memo[0] is m and memo[1] == age_variance_per_second:
+            mate_terms = memo[2]
+        else:
+            extra = m.pose_std**2 + age_variance_per_second * m.ball_age
+            mate_terms = _information(m.ball_x, m.ball_y, m.ball_cov_xx, m.ball_cov_xy, m.ball_cov_yy, extra)
+            if terms is not None:
+                terms[id(m)] = (m, age_variance_per_second, mate_terms)
+        if mate_terms is None:
+            continue
+        ia, ib, idd, tx, ty = mate_terms
         ix, ixy, iy = ix + ia, ixy + ib, iy + idd
-        vx += ia * bx + ib * by
-        vy += ib * bx + idd * by
-        who.append(number)
+        vx += tx
+        vy += ty
+        who.append(m.player)
     if not who:
         return None
     det = ix * iy - ixy * ixy
