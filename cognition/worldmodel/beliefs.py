@@ -35,6 +35,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from functools import partial
+from operator import attrgetter
 from typing import TypeVar
 
 import numpy as np
@@ -72,6 +73,8 @@ from cognition.worldmodel.team import TeamBallEstimate, TeamState, rotate_covari
 
 M = TypeVar("M")
 
+_BY_PLAYER = attrgetter("player")
+"""Sort key of team messages: the sender's player number."""
 _EMPTY2 = np.zeros((0, 2))
 _EMPTY3 = np.zeros((0, 3))
 _EMPTY1 = np.zeros(0)
@@ -243,13 +246,13 @@ class BeliefsModule:
     def run(self, board: Blackboard) -> None:
         frame = board.frame
         heard = board.heard or {}
+        now = frame.time
         teammates = tuple(
-            Teammate(
-                number=m.player, x=m.x, y=m.y, theta=m.theta, age=max(0.0, frame.time - heard[m.player]),
-                role=m.role, fallen=m.fallen, penalized=m.penalized,
-                ball_x=m.ball_x if m.ball_valid else math.nan, ball_y=m.ball_y if m.ball_valid else math.nan,
+            Teammate(  # number, x, y, theta, age, role, fallen, penalized, ball_x, ball_y
+                m.player, m.x, m.y, m.theta, max(0.0, now - heard[m.player]), m.role, m.fallen, m.penalized,
+                m.ball_x if m.ball_valid else math.nan, m.ball_y if m.ball_valid else math.nan,
             )
-            for m in sorted(board.teammates or (), key=lambda m: m.player)
+            for m in sorted(board.teammates or (), key=_BY_PLAYER)
         )  # fmt: skip
         assert board.pose is not None and board.ball is not None
         obstacles = board.obstacles.obstacles if board.obstacles is not None else _EMPTY2
