@@ -323,24 +323,26 @@ class ParticleFilter(Localizer):
         """The safety net (module docstring): ask for random poses at the next resampling when most
         recent observations were unexplained."""
         p = self.params
-        if p.relocalize_seconds <= 0.0:
+        window = p.relocalize_seconds
+        if window <= 0.0:
             return
         w = self._watched
         w.append((time, unexplained, observed))
-        self._unexplained += unexplained
-        self._observed += observed
-        while w[0][0] < time - p.relocalize_seconds:
+        bad, seen = self._unexplained + unexplained, self._observed + observed  # integers: exact sums
+        start = time - window
+        while w[0][0] < start:
             _, u, o = w.popleft()
-            self._unexplained -= u
-            self._observed -= o
+            bad -= u
+            seen -= o
         if (
             len(w) >= _WATCH_MIN_FRAMES
-            and time - w[0][0] >= _WATCH_MIN_SPAN * p.relocalize_seconds
-            and self._unexplained >= p.relocalize_share * self._observed
+            and time - w[0][0] >= _WATCH_MIN_SPAN * window
+            and bad >= p.relocalize_share * seen
         ):
             self._relocalize = True
             w.clear()
-            self._unexplained = self._observed = 0
+            bad = seen = 0
+        self._unexplained, self._observed = bad, seen
 
     # -- the frame -------------------------------------------------------------------------
     def _update(self, frame: SensorFrame, truth: tuple[float, float, float] | None) -> RobotPose:
