@@ -96,6 +96,8 @@ __all__ = ["HeadControl", "HeadParams", "SkillParams", "Skills"]
 Ball = tuple[float, float, float, float]
 """The ball to play: team-frame x, y and robot-frame x, y (m)."""
 
+_OBSTACLE_RADIUS = 0.5
+"""Radius (m) of the robots the walk bends around (:func:`_bend`)."""
 _SUPPORT_OFFSETS: dict[int, tuple[float, float]] = {
     2: (-2.0, -0.8),
     3: (-1.5, 0.0),
@@ -177,6 +179,10 @@ class Skills:
         self._lim_y = f.half_width + self.params.outside_allowance
         self._cached: Beliefs | None = None
         self._obstacles: list[tuple[float, float]] = []
+        self._bend_near: list[tuple[float, float, float]] = []
+        """The obstacles :func:`_bend` can bend around (within ``_OBSTACLE_RADIUS + 0.3`` m), as its entries."""
+        self._touching: list[tuple[float, float]] = []
+        """The obstacles within ``contact_distance`` (the walk does not push into them)."""
 
     # -- walking ---------------------------------------------------------------------------
     def walk_to(self, b: Beliefs, target: tuple[float, float, float], avoid: bool = True) -> WalkRequest:
@@ -460,10 +466,21 @@ class Skills:
         return max(-self._lim_y, min(self._lim_y, y))
 
     def _obstacle_list(self, b: Beliefs) -> list[tuple[float, float]]:
-        """The beliefs' obstacles (robot frame) as plain tuples (cached per beliefs)."""
+        """The beliefs' obstacles (robot frame) as plain tuples (cached per beliefs), and with
+        them the two subsets :meth:`_walk` loops over: those near enough for :func:`_bend` to
+        act on (it skips the others without changing the target) and those within the contact
+        distance. Both keep the obstacles' order, so the walk is the same to the bit."""
         if self._cached is not b:
             self._cached = b
-            self._obstacles = [(x, y) for x, y in b.obstacles.tolist()]  # tolist() gives Python floats
+            obstacles = self._obstacles = [(x, y) for x, y in b.obstacles.tolist()]  # Python floats
+            reach = _OBSTACLE_RADIUS + 0.3  # as _bend compares
+            contact2 = self.params.contact_distance * self.params.contact_distance
+            self._bend_near = [
+                (x, y, _OBSTACLE_RADIUS)
+                for x, y in obstacles
+                if not (math.hypot(x, y) < 1e-6 or math.hypot(x, y) > reach)
+            ]
+            self._touching = [(x, y) for x, y in obstacles if 1e-12 < x * x + y * y < contact2]
         return self._obstacles
 
     def _walk(
@@ -483,7 +500,7 @@ class Skills:
         p = self.params
         obstacles = self._obstacle_list(b)
         if avoid or ball > 0.0:
-            bend: list[tuple[float, float, float]] = [(x, y, 0.5) for x, y in obstacles] if avoid else []
+            bend: list[tuple[float, float, float]] = self._bend_near.copy() if avoid else []
             own = self.ball(b)
             if own is not None:
                 bend.append((own[2], own[3], ball if ball > 0.0 else 0.35))
@@ -499,15 +516,12 @@ class Skills:
             return WalkRequest()
         k = gain * 1.2 * (1.0 if abs(err) < 0.6 or dist < final_radius else 0.3)
         fwd, left = k * fx, k * fy
-        contact2 = p.contact_distance * p.contact_distance
-        for ox, oy in obstacles:
-            d2 = ox * ox + oy * oy
-            if 1e-12 < d2 < contact2:
-                d = math.sqrt(d2)
-                ux, uy = ox / d, oy / d
-                v = fwd * ux + left * uy
-                if v > 0.0:
-                    fwd, left = fwd - v * ux, left - v * uy
+        for ox, oy in self._touching:  # within the contact distance (:meth:`_obstacle_list`)
+            d = math.sqrt(ox * ox + oy * oy)
+            ux, uy = ox / d, oy / d
+            v = fwd * ux + left * uy
+            if v > 0.0:
+                fwd, left = fwd - v * ux, left - v * uy
         fwd, left = self._stay_inside(b, fwd, left)
         return WalkRequest(forward=fwd, left=left, turn=2.0 * err)
 
