@@ -23,6 +23,7 @@ bench:
 	python -m benchmarks.bench_envs --json out/bench_envs.json
 	python -m benchmarks.bench_training --json out/bench_training.json
 	python -m benchmarks.bench_match --stages --json out/bench_match.json
+	python -m benchmarks.bench_calls --json out/bench_calls.json
 	python -m benchmarks.soak --json out/soak.json
 
 # the reports in docs/studies (README tables come from them); resumable: run again after a stop
