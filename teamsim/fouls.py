@@ -33,6 +33,7 @@ from typing import ClassVar
 from cognition.field import Field
 from cognition.gamestate import Penalty
 from teamsim.params import Ranges, check_ranges, positive
+from teamsim.robot import get_position
 from teamsim.world import CollisionEvent, RobotId, World
 
 
@@ -157,7 +158,8 @@ class FoulDetector:
 
     def _stuck(self, now: float) -> list[Foul]:
         p = self.params
-        bx, by = self.world.ball.position
+        b = get_position(self.world.ball._body)  # ball.position, read in C
+        bx, by = b.x, b.y
         ax, ay, since = self._stuck_anchor
         if math.hypot(bx - ax, by - ay) > p.stuck_radius:
             self._stuck_anchor = (bx, by, now)

@@ -82,7 +82,7 @@ from teamsim.placement import (
     team_to_world,
     world_to_team,
 )
-from teamsim.robot import Robot
+from teamsim.robot import Robot, get_position
 from teamsim.world import CollisionEvent, RobotId, World
 
 
@@ -468,7 +468,8 @@ class Referee:
                     self.log.add(now, "placed", team=team, number=number)
 
     def _check_goal_and_out(self, now: float) -> bool:
-        bx, by = self.world.ball.position
+        b = get_position(self.world.ball._body)  # ball.position, read in C
+        bx, by = b.x, b.y
         r = self.world.ball_radius
         f = self.field
         lw = f.dims.line_width / 2

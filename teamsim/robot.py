@@ -51,11 +51,22 @@ from typing import ClassVar, Literal
 
 import numpy as np
 import pymunk
+from pymunk._chipmunk_cffi import lib as _chipmunk
 
 from cognition.geometry import wrap_angle
 from cognition.representations import HeadRequest, HeadState, KickRequest, WalkRequest
 from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
 
+get_position = _chipmunk.cpBodyGetPosition
+"""pymunk's C getter of a body's position: ``get_position(body._body)`` is a C struct whose ``x``
+and ``y`` are the floats of ``body.position``, read without the property and the ``Vec2d`` it
+builds (a fifth of the cost; the physics loop reads every robot's pose in every step)."""
+get_angle = _chipmunk.cpBodyGetAngle
+"""pymunk's C getter of a body's angle (``body.angle``; see :data:`get_position`)."""
+get_velocity = _chipmunk.cpBodyGetVelocity
+"""pymunk's C getter of a body's velocity (``body.velocity``; see :data:`get_position`)."""
+get_angular_velocity = _chipmunk.cpBodyGetAngularVelocity
+"""pymunk's C getter of a body's angular velocity (``body.angular_velocity``; see :data:`get_position`)."""
 set_velocity = pymunk.Body.velocity.fset
 """``Body.velocity``'s setter, called without the per-attribute ``__setattr__`` shim pymunk's
 bodies carry for type checkers (same effect, a third of the cost in the physics loop)."""
@@ -268,9 +279,9 @@ class Robot:
 
     def _read_body(self) -> None:
         """Read the body's pose from pymunk into :attr:`_body_pose` (:attr:`pose` follows on demand)."""
-        body = self.body
-        x, y = body.position
-        self._body_pose = (x, y, body.angle)
+        handle = self.body._body
+        v = get_position(handle)
+        self._body_pose = (v.x, v.y, get_angle(handle))
         self._pose = None
 
     # -- commands --------------------------------------------------------------------------
@@ -383,9 +394,10 @@ class Robot:
         if not self.in_space:
             return
         x0, y0, th0 = self._body_pose
-        body = self.body
-        x1, y1 = body.position
-        th1 = body.angle
+        handle = self.body._body
+        v = get_position(handle)  # body.position and body.angle, read in C (see get_position)
+        x1, y1 = v.x, v.y
+        th1 = get_angle(handle)
         self._body_pose = (x1, y1, th1)  # as _read_body
         self._pose = None
         if x1 == x0 and y1 == y0 and th1 == th0:
@@ -448,7 +460,8 @@ class Robot:
         p = self.params
         self.busy_until = now + p.kick_duration
         x, y, th = self.pose
-        dx, dy = ball.position.x - x, ball.position.y - y
+        b = get_position(ball._body)  # ball.position (see get_position)
+        dx, dy = b.x - x, b.y - y
         dist = math.hypot(dx, dy)
         bearing = wrap_angle(math.atan2(dy, dx) - th)
         if dist - p.radius - ball_radius > p.kick_reach or abs(bearing) > p.kick_half_angle:

@@ -44,6 +44,8 @@ from teamsim.robot import (
     COLLISION_WALL,
     Robot,
     RobotParams,
+    get_angular_velocity,
+    get_velocity,
     set_angular_velocity,
     set_velocity,
 )
@@ -180,7 +182,8 @@ class World:
         """pymunk's velocity integration of the ball (no damping), then the rolling friction:
         the speed drops by ``ball_rolling_decel * dt`` (m/s, not below 0) and the spin is zeroed."""
         pymunk.Body.update_velocity(body, gravity, 1.0, dt)
-        vx, vy = body.velocity
+        v = get_velocity(body._body)  # body.velocity, read in C
+        vx, vy = v.x, v.y
         speed = math.hypot(vx, vy)
         if speed > 0.0:
             new = speed - self._rolling_decel * dt
@@ -203,8 +206,9 @@ class World:
         moving switch back at once.
         """
         ball = self.ball
-        vx, vy = ball.velocity
-        rest = vx == 0.0 and vy == 0.0 and ball.angular_velocity == 0.0
+        handle = ball._body
+        v = get_velocity(handle)  # ball.velocity and ball.angular_velocity, read in C
+        rest = v.x == 0.0 and v.y == 0.0 and get_angular_velocity(handle) == 0.0
         if rest != self._ball_integrator_c:
             ball.velocity_func = pymunk.Body.update_velocity if rest else self._ball_velocity
             self._ball_integrator_c = rest
