@@ -172,3 +172,33 @@ def test_bad_physics_params() -> None:
         world.place_ball(math.nan, 0.0)
     with pytest.raises(ValueError, match="no robot 3"):
         world.robot(0, 3)
+
+
+def test_the_c_getters_read_what_the_body_properties_read() -> None:
+    """The physics loop reads bodies with pymunk's C getters (teamsim.robot.get_position, ...):
+    over a walk with pushes and a kick, robots' and the ball's positions, angles and velocities
+    are those of the public properties, bit for bit, and each robot's pose after a step is its
+    body's (what post_step stores)."""
+    from teamsim.robot import get_angle, get_angular_velocity, get_position, get_velocity
+
+    world = make_world(players=3, seed=5)
+    world.place_ball(0.3, 0.05, 0.4, -0.2)
+    rng = np.random.default_rng(2)
+    moving = 0
+    for k in range(300):
+        if k % 25 == 0:
+            for r in world.robots:
+                r.command(
+                    WalkRequest(rng.uniform(-0.1, 0.3), rng.uniform(-0.1, 0.1), rng.uniform(-0.5, 0.5)),
+                    KickRequest() if k == 100 else None, HeadRequest(),
+                )  # fmt: skip
+        world.step(k * world.dt)
+        for body in [r.body for r in world.robots] + [world.ball]:
+            p, v = get_position(body._body), get_velocity(body._body)
+            assert (p.x, p.y) == tuple(body.position) and (v.x, v.y) == tuple(body.velocity)
+            assert get_angle(body._body) == body.angle
+            assert get_angular_velocity(body._body) == body.angular_velocity
+            moving += v.x != 0.0 or v.y != 0.0
+        for r in world.robots:
+            assert r.body_pose == (r.body.position.x, r.body.position.y, r.body.angle)
+    assert moving > 300  # the readers were compared on moving bodies, not only on resting ones
