@@ -204,13 +204,14 @@ class Robot:
         self._control = (0.0, 0.0, 0.0)
         """The control body's (vx, vy, angular velocity) as last set (m/s, rad/s, world frame): a
         kinematic body keeps its velocity, so an unchanged command is not sent to pymunk again."""
-        self._body_pose = (0.0, 0.0, 0.0)
-        """The body's (x, y, angle) as pymunk holds it (angle not wrapped), read after every physics
-        step and set by :meth:`teleport`: nothing else moves the body, so reading it once per step
-        serves the walking engine, :attr:`pose` and the referee's many looks."""
+        self.body_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        """World pose as the physics body holds it (x m, y m, theta rad, not wrapped); read-only for
+        everyone else. Read from pymunk after every physics step and set by :meth:`teleport`:
+        nothing else moves the body, so reading it once per step serves the walking engine,
+        :attr:`pose` and the referee's many looks (a plain attribute: they read it in every step)."""
         self._pose: tuple[float, float, float] | None = (0.0, 0.0, 0.0)
-        """``_body_pose`` with the angle wrapped (:attr:`pose`); ``None`` until first asked for after
-        the body moved (the walking engine and the foul checks need only ``_body_pose``)."""
+        """``body_pose`` with the angle wrapped (:attr:`pose`); ``None`` until first asked for after
+        the body moved (the walking engine and the foul checks need only ``body_pose``)."""
         self._step_rotation: tuple[float, float] | None = None
         """cos and sin of the body angle at the start of the physics step in progress, computed by
         :meth:`pre_step` and reused by :meth:`post_step` (the body does not turn in between);
@@ -253,7 +254,7 @@ class Robot:
         """World pose (x m, y m, theta rad wrapped)."""
         pose = self._pose
         if pose is None:
-            x, y, th = self._body_pose
+            x, y, th = self.body_pose
             pose = self._pose = (x, y, wrap_angle(th))
         return pose
 
@@ -272,16 +273,11 @@ class Robot:
         :attr:`head` unpacked, without building it."""
         return self._head_joints
 
-    @property
-    def body_pose(self) -> tuple[float, float, float]:
-        """World pose as the physics body holds it (x m, y m, theta rad, not wrapped)."""
-        return self._body_pose
-
     def _read_body(self) -> None:
-        """Read the body's pose from pymunk into :attr:`_body_pose` (:attr:`pose` follows on demand)."""
+        """Read the body's pose from pymunk into :attr:`body_pose` (:attr:`pose` follows on demand)."""
         handle = self.body._body
         v = get_position(handle)
-        self._body_pose = (v.x, v.y, get_angle(handle))
+        self.body_pose = (v.x, v.y, get_angle(handle))
         self._pose = None
 
     # -- commands --------------------------------------------------------------------------
@@ -370,7 +366,7 @@ class Robot:
             # both terms are).
             self._step_rotation = None
             return
-        th = self._body_pose[2]
+        th = self.body_pose[2]
         c, s = math.cos(th), math.sin(th)
         self._step_rotation = (c, s)
         cvx, cvy = c * vx - s * vy, s * vx + c * vy
@@ -393,12 +389,12 @@ class Robot:
         """Accumulate the true body motion of the step just simulated (after :meth:`pre_step`)."""
         if not self.in_space:
             return
-        x0, y0, th0 = self._body_pose
+        x0, y0, th0 = self.body_pose
         handle = self.body._body
         v = get_position(handle)  # body.position and body.angle, read in C (see get_position)
         x1, y1 = v.x, v.y
         th1 = get_angle(handle)
-        self._body_pose = (x1, y1, th1)  # as _read_body
+        self.body_pose = (x1, y1, th1)  # as _read_body
         self._pose = None
         if x1 == x0 and y1 == y0 and th1 == th0:
             return  # adding zero motion leaves the true motion as it is (see pre_step)
