@@ -67,11 +67,13 @@ get_velocity = _chipmunk.cpBodyGetVelocity
 """pymunk's C getter of a body's velocity (``body.velocity``; see :data:`get_position`)."""
 get_angular_velocity = _chipmunk.cpBodyGetAngularVelocity
 """pymunk's C getter of a body's angular velocity (``body.angular_velocity``; see :data:`get_position`)."""
-set_velocity = pymunk.Body.velocity.fset
-"""``Body.velocity``'s setter, called without the per-attribute ``__setattr__`` shim pymunk's
-bodies carry for type checkers (same effect, a third of the cost in the physics loop)."""
-set_angular_velocity = pymunk.Body.angular_velocity.fset
-"""``Body.angular_velocity``'s setter (see :data:`set_velocity`)."""
+set_velocity = _chipmunk.cpBodySetVelocity
+"""pymunk's C setter of a body's velocity: ``set_velocity(body._body, (vx, vy))`` is what
+``body.velocity = (vx, vy)`` calls, without the per-attribute ``__setattr__`` shim pymunk's bodies
+carry for type checkers and the property's Python function (the physics loop sets the control
+bodies' velocities in most steps)."""
+set_angular_velocity = _chipmunk.cpBodySetAngularVelocity
+"""pymunk's C setter of a body's angular velocity (``body.angular_velocity = w``; see :data:`set_velocity`)."""
 
 COLLISION_ROBOT = 1
 COLLISION_BALL = 2
@@ -375,9 +377,9 @@ class Robot:
             # non-zero value equal to the last one sent is already there bit for bit; zeros are
             # sent again, as they may differ in sign.
             if cvx != last[0] or cvy != last[1] or cvx == 0.0 or cvy == 0.0:
-                set_velocity(self.control, (cvx, cvy))
+                set_velocity(self.control._body, (cvx, cvy))
             if w != last[2] or w == 0.0:
-                set_angular_velocity(self.control, w)
+                set_angular_velocity(self.control._body, w)
             self._control = (cvx, cvy, w)
         # planned = compose(planned, (vx dt, vy dt, w dt)), inlined
         px, py, pth = self.planned

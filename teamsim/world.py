@@ -189,8 +189,8 @@ class World:
             new = speed - self._rolling_decel * dt
             if new < 0.0:  # max(0.0, new)
                 new = 0.0
-            set_velocity(body, (vx * new / speed, vy * new / speed))
-        set_angular_velocity(body, 0.0)
+            set_velocity(body._body, (vx * new / speed, vy * new / speed))
+        set_angular_velocity(body._body, 0.0)
         if speed == 0.0 or new == 0.0:
             self._ball_may_rest = True
 

@@ -202,3 +202,20 @@ def test_the_c_getters_read_what_the_body_properties_read() -> None:
         for r in world.robots:
             assert r.body_pose == (r.body.position.x, r.body.position.y, r.body.angle)
     assert moving > 300  # the readers were compared on moving bodies, not only on resting ones
+
+
+def test_the_c_setters_set_what_the_body_properties_set() -> None:
+    """teamsim.robot.set_velocity and set_angular_velocity (pymunk's C setters, as the physics
+    loop calls them) leave a body as the property setters do, bit for bit."""
+    import pymunk
+
+    from teamsim.robot import set_angular_velocity, set_velocity
+
+    rng = np.random.default_rng(4)
+    for _ in range(200):
+        vx, vy, w = (float(v) for v in rng.normal(0.0, 2.0, 3))
+        a, b = pymunk.Body(1.0, 1.0), pymunk.Body(1.0, 1.0)
+        a.velocity, a.angular_velocity = (vx, vy), w
+        set_velocity(b._body, (vx, vy))
+        set_angular_velocity(b._body, w)
+        assert tuple(b.velocity) == tuple(a.velocity) == (vx, vy) and b.angular_velocity == a.angular_velocity == w
