@@ -2,34 +2,46 @@
 
 On a shared virtual machine the speed of a core can change by a third from one minute to the
 next, so two benchmarks run one after the other compare the machine's moods as much as the
-code. Here a job is run by the checkout ``--base`` and by this one *at the same time*, one
-process per core, and the cores are swapped every round; both suffer the same slow phases, and
-the ratio of their times is what the code changed. The jobs (``--job``):
+code. Here a job is run by the checkout ``--base`` and by this one *at the same time*, and the
+ratio of their times is what the code changed. Two modes (``--mode``):
+
+==========  ========================================================================================
+mode        how
+==========  ========================================================================================
+same-core   (default) both processes on one core (``--core``), each timing its own CPU time
+            (``time.process_time``): the scheduler interleaves them every few milliseconds, so
+            they share every slow phase of that core. On 2026-11-27 the per-round ratios of a
+            change stayed within 0.90 to 0.94 where cross-core rounds of the same change ranged
+            from 0.57 to 1.48 (the VM's two cores slowed down at different times).
+cross-core  one process per core, the cores swapped every round, each timing its wall time
+==========  ========================================================================================
+
+The jobs (``--job``):
 
 ===============  =====================================================================================
 job              what is timed, per unit
 ===============  =====================================================================================
 match            the default 5 v 5 match (``maturing``, percepts; ``--half-seconds``), per robot and
                  cognition frame; a 1 s-half match first loads numba's cache
-soccer-percepts  ``soccer_v0`` 5 v 5, all robots controlled, percepts, cognition at 30 Hz
-                 (:func:`benchmarks.bench_envs.bench_soccer`, ``--steps`` parallel steps, best of 3
-                 passes), per agent step
+soccer-percepts  ``soccer_v0`` 5 v 5, all robots controlled, random continuous actions, percepts,
+                 cognition at 30 Hz, ``--steps`` parallel steps after 20 untimed ones, per agent step
 soccer-truth     the same in ``truth`` mode, cognition at 10 Hz, per agent step
-striker          ``teamsim/Striker-v0`` (:func:`benchmarks.bench_envs.bench_striker`, 2 ``--steps``
-                 steps, best of 3 passes), per step
+striker          ``teamsim/Striker-v0``, random discrete actions, 5 ``--steps`` steps after 100
+                 untimed ones (resets included), per step
 ===============  =====================================================================================
 
 ==================  ==========================================================================
 figure              meaning
 ==================  ==========================================================================
-base_us, this_us    wall time per unit of each round (us), per checkout
+base_us, this_us    time per unit of each round (us; CPU time in ``same-core`` mode), per checkout
 ratio_median        median over rounds of this / base (below 1: this checkout is faster)
 ratio_min, max      the range of the per-round ratios
 ==================  ==========================================================================
 
-Usage: ``python -m benchmarks.paired --base ../teamsim-old [--job match] [--rounds 8]
-[--half-seconds 60] [--steps 300] [--seed 0] [--json out.json]``; ``--base`` is a checkout of
-another commit (``git worktree add ../teamsim-old <commit>``). Needs two cores.
+Usage: ``python -m benchmarks.paired --base ../teamsim-old [--job match] [--mode same-core]
+[--core 0] [--rounds 8] [--half-seconds 60] [--steps 300] [--seed 0] [--json out.json]``;
+``--base`` is a checkout of another commit (``git worktree add ../teamsim-old <commit>``).
+``cross-core`` needs two cores.
 """
 
 from __future__ import annotations
@@ -53,20 +65,46 @@ def config(seed, half):
                        referee=RefereeParams(half_seconds=half))
 Match(config({seed} + 1, 1.0)).run()
 m = Match(config({seed}, {half}))
-t = time.perf_counter()
+t = {clock}()
 m.run()
-print((time.perf_counter() - t) / (m.frames * len(m.world.robots)) * 1e6)
+print(({clock}() - t) / (m.frames * len(m.world.robots)) * 1e6)
 """
 
 
 _ENV = """
-from benchmarks.bench_envs import bench_soccer, bench_striker
+import time
+import gymnasium
+import envs
+from envs import soccer_v0
 job, steps = {job!r}, {steps}
 if job == "striker":
-    print(1e6 / bench_striker(2 * steps, 3))
+    env = gymnasium.make("teamsim/Striker-v0", observation="truth", action_type="discrete")
+    env.action_space.seed(0)
+    env.reset(seed=0)
+    actions = [env.action_space.sample() for _ in range(100 + 5 * steps)]
+    def play(batch):
+        for a in batch:
+            _, _, term, trunc, _ = env.step(a)
+            if term or trunc:
+                env.reset()
+    play(actions[:100])
+    t = {clock}()
+    play(actions[100:])
+    print(({clock}() - t) / (5 * steps) * 1e6)
 else:
     mode, hz = ("percepts", 30.0) if job == "soccer-percepts" else ("truth", 10.0)
-    print(1e6 / (10.0 * bench_soccer(mode, hz, steps, 3)))
+    env = soccer_v0.parallel_env(players_per_team=5, control="both", observation=mode, cognition_hz=hz,
+                                 start="playing", max_cycles=10**9, obstacle_model="sectors")
+    space = env.action_space("home_1")
+    space.seed(0)
+    env.reset(seed=0)
+    actions = [{{a: space.sample() for a in env.possible_agents}} for _ in range(20 + steps)]
+    for act in actions[:20]:
+        env.step(act)
+    t = {clock}()
+    for act in actions[20:]:
+        env.step(act)
+    print(({clock}() - t) / (10 * steps) * 1e6)
 """
 JOBS = ("match", "soccer-percepts", "soccer-truth", "striker")
 _UNIT = {"match": "robot-frame", "striker": "step"}
@@ -74,10 +112,11 @@ _UNIT = {"match": "robot-frame", "striker": "step"}
 
 def _start(tree: Path, core: int, args: argparse.Namespace) -> subprocess.Popen[str]:
     env = {**os.environ, "PYTHONPATH": str(tree)}
+    clock = "time.process_time" if args.mode == "same-core" else "time.perf_counter"
     if args.job == "match":
-        code = _PLAY.format(seed=args.seed, half=args.half_seconds)
+        code = _PLAY.format(seed=args.seed, half=args.half_seconds, clock=clock)
     else:
-        code = _ENV.format(job=args.job, steps=args.steps)
+        code = _ENV.format(job=args.job, steps=args.steps, clock=clock)
     return subprocess.Popen(
         ["taskset", "-c", str(core), sys.executable, "-c", code], cwd=tree, env=env, stdout=subprocess.PIPE, text=True
     )
@@ -94,24 +133,33 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--base", type=Path, required=True, help="checkout of the code to compare against")
     parser.add_argument("--job", choices=JOBS, default="match")
+    parser.add_argument("--mode", choices=("same-core", "cross-core"), default="same-core")
+    parser.add_argument("--core", type=int, default=0, help="the core of the same-core mode")
     parser.add_argument("--rounds", type=int, default=8)
     parser.add_argument("--half-seconds", type=float, default=60.0, help="match halves (s of game time)")
-    parser.add_argument("--steps", type=int, default=300, help="parallel steps of soccer_v0 (striker: twice as many)")
+    parser.add_argument(
+        "--steps", type=int, default=300, help="timed parallel steps of soccer_v0 (striker: five times as many steps)"
+    )
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
     base, this = args.base.resolve(), Path(__file__).resolve().parent.parent
     if not (base / "teamsim" / "match.py").is_file():
         raise SystemExit(f"--base {args.base}: not a teamsim checkout (no teamsim/match.py)")
-    if len(os.sched_getaffinity(0)) < 2:
-        raise SystemExit("paired needs two cores (one per checkout)")
+    if args.mode == "cross-core" and len(os.sched_getaffinity(0)) < 2:
+        raise SystemExit("paired --mode cross-core needs two cores (one per checkout)")
+    if args.mode == "same-core" and args.core not in os.sched_getaffinity(0):
+        raise SystemExit(f"--core {args.core} is not a core this process may run on: {sorted(os.sched_getaffinity(0))}")
     if args.rounds < 1 or args.half_seconds <= 0 or args.steps < 10:
         raise SystemExit("--rounds must be >= 1, --half-seconds > 0 and --steps >= 10")
     unit = _UNIT.get(args.job, "agent step")
     base_us: list[float] = []
     this_us: list[float] = []
     for r in range(args.rounds):
-        cores = (0, 1) if r % 2 == 0 else (1, 0)
+        if args.mode == "same-core":
+            cores = (args.core, args.core)
+        else:
+            cores = (0, 1) if r % 2 == 0 else (1, 0)
         procs = [
             _start(base, cores[0], args),
             _start(this, cores[1], args),
