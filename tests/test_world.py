@@ -219,3 +219,67 @@ def test_the_c_setters_set_what_the_body_properties_set() -> None:
         set_velocity(b._body, (vx, vy))
         set_angular_velocity(b._body, w)
         assert tuple(b.velocity) == tuple(a.velocity) == (vx, vy) and b.angular_velocity == a.angular_velocity == w
+
+
+def _colliding_space(seed: int) -> tuple[object, list[object], list[int]]:
+    """A space of balls flying into each other and into walls, with a collision counter."""
+    import pymunk
+
+    g = np.random.default_rng(seed)
+    space = pymunk.Space()
+    walls = [pymunk.Segment(space.static_body, a, b, 0.05) for a, b in (((-2, -2), (2, -2)), ((2, -2), (2, 2)))]
+    space.add(*walls)
+    bodies = []
+    for _ in range(12):
+        b = pymunk.Body(1.0, 1.0)
+        b.position = tuple(g.uniform(-1.5, 1.5, 2))
+        b.velocity = tuple(g.normal(0.0, 3.0, 2))
+        c = pymunk.Circle(b, 0.15)
+        c.elasticity = 0.8
+        space.add(b, c)
+        bodies.append(b)
+    hits = [0]
+
+    def begin(arbiter: object, space: object, data: object) -> None:
+        hits[0] += 1
+
+    space.on_collision(begin=begin)
+    return space, bodies, hits
+
+
+def test_step_space_steps_as_pymunk_does() -> None:
+    """World's direct Chipmunk step (teamsim.world.step_space) moves bodies and calls collision
+    handlers exactly as pymunk's Space.step, also on the first step (new bodies to check)."""
+    from teamsim.world import step_space
+
+    a, bodies_a, hits_a = _colliding_space(1)
+    b, bodies_b, hits_b = _colliding_space(1)
+    for _ in range(400):
+        a.step(0.005)
+        step_space(b, 0.005)
+    assert hits_a[0] == hits_b[0] > 5
+    for x, y in zip(bodies_a, bodies_b, strict=True):
+        assert tuple(x.position) == tuple(y.position) and tuple(x.velocity) == tuple(y.velocity)
+
+
+def test_step_space_carries_out_what_a_handler_asks_for_during_the_step() -> None:
+    """A collision handler that removes a body and asks for a post-step callback: after
+    step_space the body is gone and the callback ran, as after Space.step."""
+    import pymunk
+
+    from teamsim.world import step_space
+
+    for stepper in (pymunk.Space.step, step_space):
+        space, bodies, _ = _colliding_space(2)
+        done: list[int] = []
+
+        def begin(arbiter: pymunk.Arbiter, space: pymunk.Space, data: object, done: list[int] = done) -> None:
+            body = arbiter.shapes[0].body
+            if body in space.bodies and body.body_type == pymunk.Body.DYNAMIC and not done:
+                space.remove(body, *body.shapes)
+                space.add_post_step_callback(lambda s, key: done.append(key), 7)
+
+        space.on_collision(begin=begin)
+        for _ in range(200):
+            stepper(space, 0.005)
+        assert done == [7] and len(space.bodies) == len(bodies) - 1, stepper
