@@ -7,7 +7,9 @@ configuration make the same calls, so it shows what a change did to the Python g
 where a timed benchmark needs paired runs (:mod:`benchmarks.paired`) and still sees noise.
 
 Each job runs once without counting (numba's caches load, lazy tables fill), then once under
-:mod:`cProfile`, whose call counts are exact. A call is counted as
+:mod:`cProfile`, whose call counts are exact: the same command gives the same counts. A job's
+counts depend a little on the jobs run before it in the process (caches they filled), so compare
+counts of the same command line. A call is counted as
 
 ======================  ======================================================================
 kind                    what
