@@ -327,7 +327,12 @@ class World:
             step_space(space, sub)
         for robot in robots:
             robot.post_step()
-            if robot.kick_request is not None and robot.try_kick(now, self.ball, self.ball_radius):
+            # a busy robot cannot kick yet (try_kick would say no): the request waits, without a call
+            if (
+                robot.kick_request is not None
+                and now >= robot.busy_until
+                and robot.try_kick(now, self.ball, self.ball_radius)
+            ):
                 speed = abs(self.ball.velocity)
                 events.append(CollisionEvent(now, "robot_kick", (robot.team, robot.number), None, True, speed))
         if events:

@@ -132,7 +132,8 @@ class ObservationBuilder:
             i = _BASE + _MATE * slots
             rows = obs.tolist()
             d = [x * x + y * y for x, y in rows]
-            if obs.dtype == np.float64 and all(v == v for v in d):  # nearest first, ties in order (stable)
+            total = sum(d)  # NaN exactly when a distance is NaN (they are sums of squares: no -inf)
+            if obs.dtype == np.float64 and total == total:  # nearest first, ties in order (stable)
                 nearest: Iterable[int] = sorted(range(len(d)), key=d.__getitem__)[:OBSTACLE_SLOTS]
             else:  # NaN distances: numpy's order (NaN last)
                 nearest = np.argsort(obs[:, 0] ** 2 + obs[:, 1] ** 2, kind="stable")[:OBSTACLE_SLOTS].tolist()
