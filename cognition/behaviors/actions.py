@@ -170,7 +170,7 @@ def _macro_index(action: object) -> int:
 
 def continuous_motion(a: NDArray[np.float64], p: ActionParams) -> MotionRequest:
     """The motion request of a checked continuous action (module table)."""
-    forward, left, turn, kick, direction, yaw, pitch = (float(v) for v in a.tolist())
+    forward, left, turn, kick, direction, yaw, pitch = a.tolist()  # Python floats (a float64 array)
     head = HeadRequest(yaw * p.head_yaw, p.pitch_min + 0.5 * (pitch + 1.0) * (p.pitch_max - p.pitch_min))
     if kick > 0.0:
         return MotionRequest(kick=KickRequest(direction * p.kick_angle, kick), head=head)
