@@ -69,7 +69,6 @@ from cognition.brain import Brain, BrainContext, rejected_inputs, think_all
 from cognition.camera import CameraImage, CameraRig
 from cognition.field import COLOUR_SCHEMES, FIELD_PRESETS, Field, make_colour_scheme, make_field
 from cognition.gamestate import GameControlData, GameStateId
-from cognition.geometry import wrap_angle
 from cognition.inputs import merge_counts
 from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
@@ -543,9 +542,8 @@ class Match:
     def _oracle_poses(self, team: int) -> tuple[list[OraclePose], float, float, float, float]:
         sign = self.referee.sign(team)
         poses = []
-        for r in self.world.robots:  # world_to_team(sign, *r.pose) and r.is_fallen(), written out
-            x, y, th = r.pose
-            x, y, th = (x, y, wrap_angle(th)) if sign > 0 else (-x, -y, wrap_angle(th + math.pi))
+        for r in self.world.robots:
+            x, y, th = world_to_team(sign, *r.pose)
             poses.append(OraclePose(r.number, x, y, th, active=not r.penalized, fallen=r.fallen_until >= 0))
         b = self.world.ball
         bx, by = b.position

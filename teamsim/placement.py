@@ -41,9 +41,9 @@ def team_to_world(sign: float, x: float, y: float, theta: float) -> tuple[float,
     return (-x, -y, wrap_angle(theta + math.pi))
 
 
-def world_to_team(sign: float, x: float, y: float, theta: float) -> tuple[float, float, float]:
-    """Convert a world-frame pose to the team frame (the transform is its own inverse)."""
-    return team_to_world(sign, x, y, theta)
+world_to_team = team_to_world
+"""Convert a world-frame pose to the team frame: :func:`team_to_world` itself, the transform being
+its own inverse (the same function, so that the per-frame conversions make one call, not two)."""
 
 
 def is_inside_field(field_map: Field, x: float, y: float, margin: float = 0.0) -> bool:
