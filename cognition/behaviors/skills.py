@@ -476,9 +476,7 @@ class Skills:
             reach = _OBSTACLE_RADIUS + 0.3  # as _bend compares
             contact2 = self.params.contact_distance * self.params.contact_distance
             self._bend_near = [
-                (x, y, _OBSTACLE_RADIUS)
-                for x, y in obstacles
-                if not (math.hypot(x, y) < 1e-6 or math.hypot(x, y) > reach)
+                (x, y, _OBSTACLE_RADIUS) for x, y in obstacles if not ((d := math.hypot(x, y)) < 1e-6 or d > reach)
             ]
             self._touching = [(x, y) for x, y in obstacles if 1e-12 < x * x + y * y < contact2]
         return self._obstacles
