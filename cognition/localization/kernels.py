@@ -308,18 +308,33 @@ def _hough_q(px, py, th, c, s, ob, hough, lines):  # pragma: no cover - compiled
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def predict_nb(parts, n, dx, dy, dth, sig, state):  # pragma: no cover - compiled
-    """CMU Alg. 2 on particles [0, n). ``sig``: sigma_mx, sigma_mtheta, sigma_mytheta, floor_xy, floor_theta."""
+    """CMU Alg. 2 on particles [0, n). ``sig``: sigma_mx, sigma_mtheta, sigma_mytheta, floor_xy, floor_theta.
+
+    The draws come first, in the order (x, y, theta) per particle, in a loop of their own: each
+    depends on the one before through ``state``, and mixed into the arithmetic they kept the
+    motion itself (rotation, wrap) from being vectorized (5.6 against 4.6 µs for 300 particles,
+    the same numbers to the bit)."""
     sx = max(sig[0] * abs(dx), sig[3])
     sy = max(sig[0] * abs(dy), sig[3])
     st = max(math.hypot(sig[1] * dth, sig[2] * dy), sig[4])
+    nx, ny, nt = np.empty(n), np.empty(n), np.empty(n)
     for i in range(n):
-        mx = dx + sx * rand_n(state)
-        my = dy + sy * rand_n(state)
-        mt = dth + st * rand_n(state)
-        s, c = fast_sincos(parts[i, 2])
-        parts[i, 0] += c * mx - s * my
-        parts[i, 1] += s * mx + c * my
-        parts[i, 2] = wrap(parts[i, 2] + mt)
+        nx[i] = rand_n(state)
+        ny[i] = rand_n(state)
+        nt[i] = rand_n(state)
+    px, py, th = np.empty(n), np.empty(n), np.empty(n)  # contiguous, see log_likelihood_nb
+    for i in range(n):
+        px[i], py[i], th[i] = parts[i, 0], parts[i, 1], parts[i, 2]
+    for i in range(n):
+        mx = dx + sx * nx[i]
+        my = dy + sy * ny[i]
+        mt = dth + st * nt[i]
+        s, c = fast_sincos(th[i])
+        px[i] += c * mx - s * my
+        py[i] += s * mx + c * my
+        th[i] = wrap(th[i] + mt)
+    for i in range(n):
+        parts[i, 0], parts[i, 1], parts[i, 2] = px[i], py[i], th[i]
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
