@@ -41,12 +41,15 @@ figure                                 meaning
 <obs>_cpu_rtf                          simulated / CPU seconds of this process
 <obs>_us_per_robot_frame               wall time per robot and cognition frame (us)
 <obs>_position_error_m                 mean localization error (m; not on the truth)
+<obs>_heading_error_deg                mean heading error (degrees; not on the truth)
 <obs>_stage_<name>_us                  with ``--stages``: time of a stage per robot-frame (us)
 =====================================  ============================================================
 
 Usage: ``python -m benchmarks.bench_match [--observation percepts images none]
-[--half-seconds 60] [--seeds 2] [--core 0] [--stages] [--json out.json]``. The issue figures:
-the default match on percepts and, for vision, the same match on images (bar: 5x real time).
+[--localization maturing] [--particles N] [--half-seconds 60] [--seeds 2] [--core 0] [--stages]
+[--json out.json]``. The issue figures: the default match on percepts and, for vision, the same
+match on images (bar: 5x real time). ``--particles`` plays the match with another particle
+count, to weigh the filter's cost against its accuracy.
 """
 
 from __future__ import annotations
@@ -62,6 +65,7 @@ from pathlib import Path
 from typing import Any
 
 from benchmarks.common import write_figures
+from cognition.localization import LocalizationParams
 from cognition.pipeline import CognitionConfig
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
@@ -151,13 +155,18 @@ def stage_timers() -> Iterator[dict[str, float]]:
             setattr(owner, name, original)
 
 
-def play(observation: str, half_seconds: float, seed: int, localization: str | None) -> tuple[Match, float, float]:
-    """One default 5 v 5 match; returns it with its wall and CPU seconds of ``run``."""
+def play(
+    observation: str, half_seconds: float, seed: int, localization: str | None, particles: int | None = None
+) -> tuple[Match, float, float]:
+    """One default 5 v 5 match (``particles``: the particle filter's count instead of the
+    default); returns it with its wall and CPU seconds of ``run``."""
+    cognition = None
+    if localization is not None:
+        params = LocalizationParams() if particles is None else LocalizationParams(particles=particles)
+        cognition = CognitionConfig(localization=localization, localization_params=params)
     config = MatchConfig(
-        seed=seed, observation=observation,
-        cognition=None if localization is None else CognitionConfig(localization=localization),
-        referee=RefereeParams(half_seconds=half_seconds),
-    )  # fmt: skip
+        seed=seed, observation=observation, cognition=cognition, referee=RefereeParams(half_seconds=half_seconds)
+    )
     match = Match(config)
     start, cpu = time.perf_counter(), time.process_time()
     match.run()
@@ -170,6 +179,9 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         "--observation", nargs="+", default=["percepts", "images"], choices=["percepts", "images", "none"]
     )
     parser.add_argument("--localization", default="maturing", help="variant on percepts and images (default maturing)")
+    parser.add_argument(
+        "--particles", type=int, default=None, help="particle count of the filter (default: the variant's, 300)"
+    )
     parser.add_argument("--half-seconds", type=float, default=60.0, help="length of each half (s of game time)")
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--core", type=int, default=0, help="the CPU core to run on (-1: leave the affinity)")
@@ -182,19 +194,20 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     figures: dict[str, float] = {}
     for obs in args.observation:
         loc = None if obs == "none" else args.localization
-        play(obs, 1.0, 0, loc)  # load this mode's kernels (numba's cache) before timing
+        play(obs, 1.0, 0, loc, args.particles)  # load this mode's kernels (numba's cache) before timing
         sim = wall = cpu = 0.0
         frames = 0
-        errors = []
+        errors, headings = [], []
         rtfs = []  # per seed: this machine's run-to-run spread
         for seed in range(args.seeds):
-            match, w, c = play(obs, args.half_seconds, seed, loc)
+            match, w, c = play(obs, args.half_seconds, seed, loc, args.particles)
             sim, wall, cpu = sim + match.time, wall + w, cpu + c
             rtfs.append(match.time / w)
             frames += match.frames * len(match.world.robots)
             summary = match.localization_errors.summary()
             if summary is not None:
                 errors.append(summary.position_error_mean)
+                headings.append(summary.heading_error_mean)
         figures[f"{obs}_rtf"] = sim / wall
         figures[f"{obs}_cpu_rtf"] = sim / cpu
         figures[f"{obs}_rtf_min"], figures[f"{obs}_rtf_max"] = min(rtfs), max(rtfs)
@@ -204,11 +217,13 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         line += f"{1e6 * wall / frames:6.0f} us per robot-frame"
         if errors:
             figures[f"{obs}_position_error_m"] = sum(errors) / len(errors)
+            figures[f"{obs}_heading_error_deg"] = sum(headings) / len(headings)
             line += f", mean position error {figures[f'{obs}_position_error_m']:.3f} m"
+            line += f", heading {figures[f'{obs}_heading_error_deg']:.2f} deg"
         print(line, flush=True)
         if args.stages:
             with stage_timers() as spent:
-                match, w, _ = play(obs, args.half_seconds, 0, loc)
+                match, w, _ = play(obs, args.half_seconds, 0, loc, args.particles)
             n = match.frames * len(match.world.robots)
             spent["other"] = w - sum(spent.values())
             print(f"  per robot-frame (seed 0, timed run: {1e6 * w / n:.0f} us)")
