@@ -20,7 +20,10 @@ render              ``render_nb``: the camera image of the scene (per seeing rob
 effects             ``ImageEffects.apply``: blur, exposure, white balance, noise
 image glue          the rest of ``Match.capture_images`` (camera matrices, image objects)
 vision              ``Vision.detect``: pixels to percepts
-localization        the localizer's ``update`` (input checks, particle filter, pose)
+localization        the localizer's ``update`` around its kernels: input checks, game events,
+                    the pose record, the safety net, the strategies' decisions (Python)
+loc. kernels        the particle filter's compiled calls: packing the observations, the frame
+                    (motion, sensor model, pose), the maturing candidates, the resampling
 kalman ball         ``KalmanBallModel.update``
 ball hypotheses     ``BallHypotheses.update``
 team                ``TeamState.update`` and ``team_ball``: teammates' messages, the team ball
@@ -71,8 +74,8 @@ from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
 
 STAGES = (
-    "physics", "referee", "percepts", "render", "effects", "image glue", "vision", "localization", "kalman ball",
-    "ball hypotheses", "team", "obstacles", "goal model", "behaviour", "frame glue", "other",
+    "physics", "referee", "percepts", "render", "effects", "image glue", "vision", "localization", "loc. kernels",
+    "kalman ball", "ball hypotheses", "team", "obstacles", "goal model", "behaviour", "frame glue", "other",
 )  # fmt: skip
 
 
@@ -81,6 +84,10 @@ def _targets() -> list[tuple[Any, str, str]]:
     import cognition.behaviors.head_control as head_control
     import cognition.behaviors.team_play as team_play
     import cognition.localization.base as loc_base
+    import cognition.localization.kernels as loc_kernels
+    import cognition.localization.maturing as maturing
+    import cognition.localization.particle_filter as particle_filter
+    import cognition.localization.sensor as sensor
     import cognition.modules as modules
     import cognition.worldmodel.ball as ball
     import cognition.worldmodel.goal as goal
@@ -104,6 +111,12 @@ def _targets() -> list[tuple[Any, str, str]]:
         (match.Match, "capture_images", "image glue"),
         (Vision, "detect", "vision"),
         (loc_base.Localizer, "update", "localization"),
+        (sensor, "pack_nb", "loc. kernels"),
+        (loc_kernels, "frame_nb", "loc. kernels"),
+        (maturing, "mature_nb", "loc. kernels"),
+        (maturing, "move_candidates_nb", "loc. kernels"),
+        (maturing, "inject_matured_nb", "loc. kernels"),
+        (particle_filter, "resample_nb", "loc. kernels"),
         (ball.KalmanBallModel, "update", "kalman ball"),
         (hypotheses.BallHypotheses, "update", "ball hypotheses"),
         (team.TeamState, "update", "team"),
