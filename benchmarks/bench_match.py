@@ -48,11 +48,15 @@ figure                                 meaning
 <obs>_stage_<name>_us                  with ``--stages``: time of a stage per robot-frame (us)
 =====================================  ============================================================
 
+With several ``--particles`` counts every figure is named ``<obs>_p<count>_...`` instead, and the
+counts take turns seed by seed (seed 0 with each count, then seed 1, ...), so that the machine's
+changes of speed fall on all of them alike.
+
 Usage: ``python -m benchmarks.bench_match [--observation percepts images none]
-[--localization maturing] [--particles N] [--half-seconds 60] [--seeds 2] [--core 0] [--stages]
+[--localization maturing] [--particles N [N ...]] [--half-seconds 60] [--seeds 2] [--core 0] [--stages]
 [--json out.json]``. The issue figures: the default match on percepts and, for vision, the same
-match on images (bar: 5x real time). ``--particles`` plays the match with another particle
-count, to weigh the filter's cost against its accuracy.
+match on images (bar: 5x real time). ``--particles`` plays the match with other particle
+counts, to weigh the filter's cost against its accuracy.
 """
 
 from __future__ import annotations
@@ -186,6 +190,29 @@ def play(
     return match, time.perf_counter() - start, time.process_time() - cpu
 
 
+def _summarise(key: str, runs: list[tuple[Match, float, float]]) -> dict[str, float]:
+    """Figures of one configuration's matches (one per seed), named ``<key>_...``; prints a line."""
+    sim = sum(m.time for m, _, _ in runs)
+    wall = sum(w for _, w, _ in runs)
+    cpu = sum(c for _, _, c in runs)
+    frames = sum(m.frames * len(m.world.robots) for m, _, _ in runs)
+    rtfs = [m.time / w for m, w, _ in runs]  # per seed: this machine's run-to-run spread
+    figures = {
+        f"{key}_rtf": sim / wall, f"{key}_cpu_rtf": sim / cpu, f"{key}_rtf_min": min(rtfs), f"{key}_rtf_max": max(rtfs),
+        f"{key}_us_per_robot_frame": 1e6 * wall / frames,
+    }  # fmt: skip
+    line = f"{key:8s} {sim / wall:6.2f}x real time (seeds {min(rtfs):.2f}..{max(rtfs):.2f}, CPU {sim / cpu:5.2f}x), "
+    line += f"{1e6 * wall / frames:6.0f} us per robot-frame"
+    summaries = [s for s in (m.localization_errors.summary() for m, _, _ in runs) if s is not None]
+    if summaries:
+        figures[f"{key}_position_error_m"] = sum(s.position_error_mean for s in summaries) / len(summaries)
+        figures[f"{key}_heading_error_deg"] = sum(s.heading_error_mean for s in summaries) / len(summaries)
+        line += f", mean position error {figures[f'{key}_position_error_m']:.3f} m"
+        line += f", heading {figures[f'{key}_heading_error_deg']:.2f} deg"
+    print(line, flush=True)
+    return figures
+
+
 def main(argv: list[str] | None = None) -> dict[str, float]:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument(
@@ -193,8 +220,9 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
     )
     parser.add_argument("--localization", default="maturing", help="variant on percepts and images (default maturing)")
     parser.add_argument(
-        "--particles", type=int, default=None, help="particle count of the filter (default: the variant's, 300)"
-    )
+        "--particles", type=int, nargs="+", default=None,
+        help="particle counts of the filter (default: the variant's, 300); several take turns seed by seed",
+    )  # fmt: skip
     parser.add_argument("--half-seconds", type=float, default=60.0, help="length of each half (s of game time)")
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--core", type=int, default=0, help="the CPU core to run on (-1: leave the affinity)")
@@ -205,45 +233,29 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         os.sched_setaffinity(0, {args.core})
     play("none", 2.0, 0, None)  # load the compiled kernels of the world before any clock runs
     figures: dict[str, float] = {}
+    counts: list[int | None] = list(args.particles) if args.particles else [None]
     for obs in args.observation:
         loc = None if obs == "none" else args.localization
-        play(obs, 1.0, 0, loc, args.particles)  # load this mode's kernels (numba's cache) before timing
-        sim = wall = cpu = 0.0
-        frames = 0
-        errors, headings = [], []
-        rtfs = []  # per seed: this machine's run-to-run spread
-        for seed in range(args.seeds):
-            match, w, c = play(obs, args.half_seconds, seed, loc, args.particles)
-            sim, wall, cpu = sim + match.time, wall + w, cpu + c
-            rtfs.append(match.time / w)
-            frames += match.frames * len(match.world.robots)
-            summary = match.localization_errors.summary()
-            if summary is not None:
-                errors.append(summary.position_error_mean)
-                headings.append(summary.heading_error_mean)
-        figures[f"{obs}_rtf"] = sim / wall
-        figures[f"{obs}_cpu_rtf"] = sim / cpu
-        figures[f"{obs}_rtf_min"], figures[f"{obs}_rtf_max"] = min(rtfs), max(rtfs)
-        figures[f"{obs}_us_per_robot_frame"] = 1e6 * wall / frames
-        line = f"{obs:8s} {sim / wall:6.2f}x real time (seeds {min(rtfs):.2f}..{max(rtfs):.2f}, "
-        line += f"CPU {sim / cpu:5.2f}x), "
-        line += f"{1e6 * wall / frames:6.0f} us per robot-frame"
-        if errors:
-            figures[f"{obs}_position_error_m"] = sum(errors) / len(errors)
-            figures[f"{obs}_heading_error_deg"] = sum(headings) / len(headings)
-            line += f", mean position error {figures[f'{obs}_position_error_m']:.3f} m"
-            line += f", heading {figures[f'{obs}_heading_error_deg']:.2f} deg"
-        print(line, flush=True)
-        if args.stages:
-            with stage_timers() as spent:
-                match, w, _ = play(obs, args.half_seconds, 0, loc, args.particles)
-            n = match.frames * len(match.world.robots)
-            spent["other"] = w - sum(spent.values())
-            print(f"  per robot-frame (seed 0, timed run: {1e6 * w / n:.0f} us)")
-            for stage in STAGES:
-                if spent.get(stage, 0.0) > 0.0:
-                    figures[f"{obs}_stage_{stage.replace(' ', '_')}_us"] = 1e6 * spent[stage] / n
-                    print(f"    {stage:16s} {1e6 * spent[stage] / n:7.1f} us")
+        runs = counts if loc is not None else [None]
+        for n in runs:
+            play(obs, 1.0, 0, loc, n)  # load this mode's kernels (numba's cache) before timing
+        played: dict[int | None, list[tuple[Match, float, float]]] = {n: [] for n in runs}
+        for seed in range(args.seeds):  # the counts take turns, seed by seed: they share the machine's moods
+            for n in runs:
+                played[n].append(play(obs, args.half_seconds, seed, loc, n))
+        for n in runs:
+            key = obs if len(runs) == 1 else f"{obs}_p{n}"
+            figures.update(_summarise(key, played[n]))
+            if args.stages:
+                with stage_timers() as spent:
+                    match, w, _ = play(obs, args.half_seconds, 0, loc, n)
+                frames = match.frames * len(match.world.robots)
+                spent["other"] = w - sum(spent.values())
+                print(f"  per robot-frame (seed 0, timed run: {1e6 * w / frames:.0f} us)")
+                for stage in STAGES:
+                    if spent.get(stage, 0.0) > 0.0:
+                        figures[f"{key}_stage_{stage.replace(' ', '_')}_us"] = 1e6 * spent[stage] / frames
+                        print(f"    {stage:16s} {1e6 * spent[stage] / frames:7.1f} us")
     write_figures(args.json, figures)
     return figures
 

@@ -1,8 +1,8 @@
-"""``benchmarks.bench_match``: the figures it reports and its ``--particles`` option."""
+"""``benchmarks.bench_match``: its ``--particles`` option and the figures it reports."""
 
 from __future__ import annotations
 
-import math
+from types import SimpleNamespace
 
 import pytest
 
@@ -19,15 +19,34 @@ def test_particles_option_reaches_every_filter() -> None:
     assert wall > 0.0 and cpu > 0.0
 
 
-@pytest.mark.slow(seconds=15)
-def test_figures_of_a_short_run(tmp_path) -> None:
+def _fake_match(n: int | None, seed: int) -> SimpleNamespace:
+    """What ``main`` reads of a played match: 60 s in 1,800 frames of 10 robots, errors by count."""
+    err = 0.1 if n is None else 30.0 / n
+    summary = SimpleNamespace(position_error_mean=err, heading_error_mean=10 * err)
+    return SimpleNamespace(
+        time=60.0, frames=1800, world=SimpleNamespace(robots=[None] * 10),
+        localization_errors=SimpleNamespace(summary=lambda: summary),
+    )  # fmt: skip
+
+
+def test_several_counts_take_turns_seed_by_seed(tmp_path, monkeypatch) -> None:
+    calls: list[tuple[str, float, int, int | None]] = []
+
+    def fake_play(obs, half, seed, loc, particles=None):  # type: ignore[no-untyped-def]
+        calls.append((obs, half, seed, particles))
+        return _fake_match(particles, seed), 4.0 if particles == 300 else 2.0, 3.0
+
+    monkeypatch.setattr(bench_match, "play", fake_play)
     out = tmp_path / "bench.json"
     figures = bench_match.main(
-        ["--observation", "percepts", "--half-seconds", "1", "--seeds", "1", "--core", "-1", "--particles", "150",
-         "--json", str(out)]
+        ["--observation", "percepts", "--half-seconds", "30", "--seeds", "3", "--core", "-1",
+         "--particles", "300", "150", "--json", str(out)]
     )  # fmt: skip
-    assert out.exists()
-    assert figures["percepts_rtf"] > 0.0 and figures["percepts_us_per_robot_frame"] > 0.0
-    assert figures["percepts_rtf_min"] <= figures["percepts_rtf"] <= figures["percepts_rtf_max"]
-    assert 0.0 <= figures["percepts_position_error_m"] < 5.0
-    assert 0.0 <= figures["percepts_heading_error_deg"] < 180.0 and math.isfinite(figures["percepts_heading_error_deg"])
+    timed = [(seed, n) for obs, half, seed, n in calls if half == 30.0]
+    assert timed == [(0, 300), (0, 150), (1, 300), (1, 150), (2, 300), (2, 150)]  # turns, seed by seed
+    assert out.exists() and "percepts_rtf" not in figures
+    assert figures["percepts_p300_rtf"] == pytest.approx(15.0) and figures["percepts_p150_rtf"] == pytest.approx(30.0)
+    assert figures["percepts_p300_us_per_robot_frame"] == pytest.approx(1e6 * 12.0 / 54_000)
+    assert figures["percepts_p300_cpu_rtf"] == pytest.approx(20.0)
+    assert figures["percepts_p150_position_error_m"] == pytest.approx(0.2)
+    assert figures["percepts_p150_heading_error_deg"] == pytest.approx(2.0)
