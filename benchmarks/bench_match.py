@@ -22,8 +22,9 @@ image glue          the rest of ``Match.capture_images`` (camera matrices, image
 vision              ``Vision.detect``: pixels to percepts
 localization        the localizer's ``update`` around its kernels: input checks, game events,
                     the pose record, the safety net, the strategies' decisions (Python)
-loc. kernels        the particle filter's compiled calls: packing the observations, the frame
-                    (motion, sensor model, pose), the maturing candidates, the resampling
+loc. kernels        the particle filter's compiled calls: the frame of the built-in strategies
+                    (packing the observations, motion, sensor model, pose, the maturing
+                    candidates, the resampling), or each of these calls of another strategy
 kalman ball         ``KalmanBallModel.update``
 ball hypotheses     ``BallHypotheses.update``
 team                ``TeamState.update`` and ``team_ball``: teammates' messages, the team ball
@@ -115,7 +116,9 @@ def _targets() -> list[tuple[Any, str, str]]:
         (match.Match, "capture_images", "image glue"),
         (Vision, "detect", "vision"),
         (loc_base.Localizer, "update", "localization"),
-        (sensor, "pack_nb", "loc. kernels"),
+        (particle_filter, "frame_step_nb", "loc. kernels"),  # the built-in strategies' frame (.frame_step)
+        (particle_filter, "resample_step_nb", "loc. kernels"),
+        (sensor, "pack_nb", "loc. kernels"),  # the Python steps of another strategy
         (loc_kernels, "frame_nb", "loc. kernels"),
         (maturing, "mature_nb", "loc. kernels"),
         (maturing, "move_candidates_nb", "loc. kernels"),

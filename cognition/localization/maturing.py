@@ -151,7 +151,17 @@ class Maturing(AMCLInjection):
         """Candidate poses (buffer; the first :attr:`nc` rows are in use)."""
         self.ages = np.zeros(params.maturing_candidates, dtype=np.int64)
         """Consistent frames with a landmark of each candidate."""
-        self.nc = 0
+        self.in_use = np.zeros(1, dtype=np.int64)
+        """:attr:`nc` as an array, which the compiled frame (:mod:`.frame_step`) updates in place."""
+
+    @property
+    def nc(self) -> int:
+        """Candidates in use (the first rows of :attr:`cand`)."""
+        return int(self.in_use[0])
+
+    @nc.setter
+    def nc(self, value: int) -> None:
+        self.in_use[0] = value
 
     def observe(self, pf: FilterView, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
         """Move the candidates by the odometry and, on a frame with observations, score, drop

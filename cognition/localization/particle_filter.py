@@ -31,6 +31,10 @@ file named after its algorithm: :mod:`~cognition.localization.multinomial`,
 Vision poses come from :mod:`cognition.localization.resetting`. The compiled steps (motion
 noise, resampling, injected poses and their slots, resetting) draw from the filter's own
 xorshift64* state, seeded from its numpy Generator, which only draws the number of injections.
+With a built-in strategy the frame's steps run in one compiled call (two when poses may be
+injected: the Generator draws their number in between), :mod:`cognition.localization.frame_step`;
+any other strategy runs them as Python calls (:meth:`ParticleFilter._update_by_steps`), and both
+paths give the same numbers to the bit (``tests/test_frame_step.py``).
 
 **Recovery** (what each variant does when it is wrong, e.g. after the robot was moved without
 noticing, or after odometry that could not be trusted):
@@ -81,7 +85,7 @@ so a robot moved without noticing may settle on either; with goals of different 
 them apart on an SPL field needs information from outside the robot's own percepts (the
 game state before kickoff, teammates' ball), which this module does not use beyond the own
 half of the game's setup phases. What the filters do keep is the side they are on: poses
-from vision (``reset``, ``maturing``) that fall within :data:`_MIRROR_RADIUS` of the
+from vision (``reset``, ``maturing``) that fall within :data:`~.frame_step.MIRROR_RADIUS` of the
 estimate's mirror image are mirrored onto the estimate before they replace particles (not in
 the papers). A few lines and one post fit both halves equally, so such poses mature as
 readily as right ones; injected while the spread test called an accurate robot lost, they
@@ -102,7 +106,7 @@ leaves finite, uniform weights, never NaN.
 from __future__ import annotations
 
 import math
-from collections import OrderedDict, deque
+from collections import OrderedDict
 
 import numpy as np
 from numpy.typing import NDArray
@@ -113,6 +117,17 @@ from cognition.localization import kernels as K  # noqa: N812 - short kernel nam
 from cognition.localization.amcl import AMCLInjection
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
+from cognition.localization.frame_step import (
+    MIRROR_RADIUS,
+    R_OBSERVED,
+    R_RELOCALIZE,
+    R_UNEXPLAINED,
+    frame_step_nb,
+    grow_ring,
+    knobs,
+    resample_step_nb,
+    watch_nb,
+)
 from cognition.localization.kld import kld_count
 from cognition.localization.low_variance import LOW_VARIANCE
 from cognition.localization.maturing import Maturing
@@ -121,7 +136,7 @@ from cognition.localization.params import LocalizationParams
 from cognition.localization.places import placement_poses
 from cognition.localization.resample import resample_nb
 from cognition.localization.resetting import SensorResetting
-from cognition.localization.sensor import NO_OBSERVATIONS, pack_observations, sensor_table
+from cognition.localization.sensor import N_O, NO_OBSERVATIONS, pack_observations, sensor_table
 from cognition.localization.strategy import Injection, Resampling
 from cognition.representations import RobotPose, SensorFrame
 
@@ -138,12 +153,8 @@ _MODELS: OrderedDict[FieldDimensions, FieldModel] = OrderedDict()
 _MODELS_KEPT = 8
 """Compiled maps kept (least recently used dropped): one per field geometry in use."""
 _OWN_HALF_STATES = (GameStateId.INITIAL, GameStateId.READY, GameStateId.SET)
-_WATCH_MIN_FRAMES = 5
-"""Observed frames the safety net needs in its window before it may act."""
-_MIRROR_RADIUS = 1.5
-"""Random poses the safety net injects keep this far (m) from the estimate's mirror image."""
-_WATCH_MIN_SPAN = 0.8
-"""Share of ``relocalize_seconds`` the safety net's window must span before it may act."""
+_NO_OFFSETS = np.zeros(2, dtype=np.int64)
+"""Percept offsets of no rows (a frame without percepts)."""
 
 
 def field_model(field: Field) -> FieldModel:
@@ -238,13 +249,21 @@ class ParticleFilter(Localizer):
         self.n = self.injection.initial_count()
         self.injected = 0
         """Particles replaced by random or vision poses in the latest update."""
-        self._last_resample = -1e9
+        self._last_resample = np.array([-1e9])
+        """Time (s) of the latest resampling (an array: the compiled frame updates it)."""
         self._own_half = True
-        self._watched: deque[tuple[float, int, int]] = deque()
-        """(time, unexplained observations, observations) of the observed frames in the safety net's window."""
-        self._unexplained = 0
-        self._observed = 0
-        self._relocalize = False
+        self._watched = (np.zeros(64), np.zeros(64, dtype=np.int64), np.zeros(64, dtype=np.int64))
+        """(time, unexplained observations, observations) of the observed frames in the safety
+        net's window: a ring buffer (:func:`~.frame_step.watch_nb`) with :attr:`_watch_state` its state."""
+        self._watch_state = np.zeros(5, dtype=np.int64)
+        self._knobs = knobs(self.injection, p, resampling.low_variance, field.half_length, field.half_width)
+        """The compiled frame's numbers for a built-in strategy (:mod:`.frame_step`); ``None``:
+        the strategy is another class and the frame runs its Python steps."""
+        inj = self.injection
+        if isinstance(inj, Maturing):
+            self._candidates = (inj.cand, inj.ages, inj.in_use)
+        else:
+            self._candidates = (np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64))
         self.relocalizations = 0
         """Times the safety net injected random poses (module docstring)."""
         self.observation_evidence = np.zeros(0)
@@ -310,46 +329,78 @@ class ParticleFilter(Localizer):
     def _forget(self) -> None:
         """Drop what the filter learnt about its own health and its candidates (new beliefs)."""
         self.injection.forget()
-        self._watched.clear()
-        self._unexplained = self._observed = 0
-        self._relocalize = False
+        self._watch_state[:] = 0
 
     @property
     def unexplained_share(self) -> float:
         """Share of the observations in the safety net's window that were unexplained (0..1)."""
-        return self._unexplained / self._observed if self._observed else 0.0
+        observed = int(self._watch_state[R_OBSERVED])
+        return int(self._watch_state[R_UNEXPLAINED]) / observed if observed else 0.0
 
     def _watch(self, time: float, unexplained: int, observed: int) -> None:
         """The safety net (module docstring): ask for random poses at the next resampling when most
-        recent observations were unexplained."""
+        recent observations were unexplained (:func:`~.frame_step.watch_nb`)."""
+        self._watched = grow_ring(*self._watched, self._watch_state)
         p = self.params
-        window = p.relocalize_seconds
-        if window <= 0.0:
-            return
-        w = self._watched
-        w.append((time, unexplained, observed))
-        bad, seen = self._unexplained + unexplained, self._observed + observed  # integers: exact sums
-        start = time - window
-        while w[0][0] < start:
-            _, u, o = w.popleft()
-            bad -= u
-            seen -= o
-        if (
-            len(w) >= _WATCH_MIN_FRAMES
-            and time - w[0][0] >= _WATCH_MIN_SPAN * window
-            and bad >= p.relocalize_share * seen
-        ):
-            self._relocalize = True
-            w.clear()
-            bad = seen = 0
-        self._unexplained, self._observed = bad, seen
+        window, share = p.relocalize_seconds, p.relocalize_share
+        watch_nb(time, unexplained, observed, window, share, *self._watched, self._watch_state)
+
+    @property
+    def _relocalize(self) -> bool:
+        """Whether the safety net asks for random poses at the next resampling."""
+        return bool(self._watch_state[R_RELOCALIZE])
+
+    @_relocalize.setter
+    def _relocalize(self, value: bool) -> None:
+        self._watch_state[R_RELOCALIZE] = 1 if value else 0
 
     # -- the frame -------------------------------------------------------------------------
     def _update(self, frame: SensorFrame, truth: tuple[float, float, float] | None) -> RobotPose:
+        self._own_half = frame.game.state in _OWN_HALF_STATES
+        if self._knobs is None:
+            return self._update_by_steps(frame)
+        # a built-in strategy: the steps of _update_by_steps in one or two compiled calls (.frame_step)
         p = self.params
         n = self.n
         o = frame.odometry
-        self._own_half = frame.game.state in _OWN_HALF_STATES
+        percepts = frame.percepts
+        rows, offsets = (NO_OBSERVATIONS, _NO_OFFSETS) if percepts is None else percepts.table_and_offsets
+        n_rows = offsets[-1] - offsets[0]
+        explained, packed, weights = np.empty(n_rows), np.empty((n_rows, N_O)), np.empty(n)
+        self._watched = grow_ring(*self._watched, self._watch_state)
+        cand, ages, in_use = self._candidates
+        parts, spare, averages = self.parts, self._spare, self.injection.averages
+        x, y, th, spread, k, share, n_new, relocalize = frame_step_nb(
+            parts, spare, n, self.logw, self.w, weights, self.ll_buffer, self.scratch, self._prev, self._pose_par,
+            self._pose_out, explained, self._motion, self.kernel_state, self.hough_params, *self.maps, rows, offsets,
+            self._table, packed, bool(frame.picked_up or self._penalty), o.dx, o.dy, o.dtheta, frame.time,
+            self._own_half, self._knobs, self._last_resample, *self._watched, self._watch_state, averages, cand, ages,
+            in_use, self._slots,
+        )  # fmt: skip
+        pose = RobotPose(x, y, th, self._cov.copy(), spread > p.lost_spread, n, parts[:n].copy(), weights, self.name)
+        self.observation_evidence = explained[:k]
+        self.injected = 0
+        if share > 0.0:  # the number of poses to inject comes from the numpy Generator, as in _resample
+            m_inj = int(self.rng.binomial(n_new, share))
+            posts, crossings, _, marks, poles = self.maps[:5]
+            self.injected, relocalize = resample_step_nb(
+                parts, n, self.w, self.logw, spare, n_new, m_inj, self._slots, self.kernel_state, self._knobs,
+                packed[:k], x, y, self._own_half, posts, crossings, marks, poles, self._watch_state, averages, cand,
+                ages, in_use,
+            )  # fmt: skip
+        if share >= 0.0:  # resampled: the new set is in the spare buffer
+            self.parts, self._spare = spare, parts
+            self.n = n_new
+        if relocalize:
+            self._relocalize_now(pose)
+        return pose
+
+    def _update_by_steps(self, frame: SensorFrame) -> RobotPose:
+        """The frame as Python steps around the kernels, calling the strategy's methods (any
+        :class:`~.strategy.Injection`; :mod:`.frame_step` runs the built-in ones in one call)."""
+        p = self.params
+        n = self.n
+        o = frame.odometry
         blind = frame.picked_up or self._penalty  # the base class tracked this frame's penalty
         obs = NO_OBSERVATIONS if blind else pack_observations(frame.percepts, self._table)
         k = obs.shape[0]
@@ -367,20 +418,25 @@ class ParticleFilter(Localizer):
         self.observation_evidence = explained
         if k:
             self._watch(frame.time, unexplained, k)
-        if k and frame.time - self._last_resample >= p.resample_interval:
-            self._last_resample = frame.time
+        if k and frame.time - self._last_resample[0] >= p.resample_interval:
+            self._last_resample[0] = frame.time
             self._resample(obs, math.exp(evidence / k), math.exp(raw_evidence / k), lost, pose)
-            if self._relocalize:  # the safety net: random poses in place of particles just resampled
+            if self._relocalize:
                 self._relocalize = False
-                self.relocalizations += 1
-                m = max(1, round(p.injection_max * self.n))
-                slots = K.choose_nb(self.n, m, self.kernel_state)
-                self.parts[slots] = self.away_from_mirror(self.uniform_poses(m), pose)
-                self.logw[slots] = math.log(p.relocalize_weight)  # must explain the next frames far better
-                self.w[: self.n] = np.exp(self.logw[: self.n])
-                self.w[: self.n] /= self.w[: self.n].sum()
-                self.injected += m
+                self._relocalize_now(pose)
         return pose
+
+    def _relocalize_now(self, pose: RobotPose) -> None:
+        """The safety net: random poses in place of particles just resampled."""
+        p = self.params
+        self.relocalizations += 1
+        m = max(1, round(p.injection_max * self.n))
+        slots = K.choose_nb(self.n, m, self.kernel_state)
+        self.parts[slots] = self.away_from_mirror(self.uniform_poses(m), pose)
+        self.logw[slots] = math.log(p.relocalize_weight)  # must explain the next frames far better
+        self.w[: self.n] = np.exp(self.logw[: self.n])
+        self.w[: self.n] /= self.w[: self.n].sum()
+        self.injected += m
 
     # -- resampling by the variant's strategies -----------------------------------------------
     def _resample(self, obs: NDArray[np.float64], w_avg: float, w_raw: float, lost: bool, pose: RobotPose) -> None:
@@ -423,11 +479,11 @@ class ParticleFilter(Localizer):
 
     @staticmethod
     def away_from_mirror(fresh: NDArray[np.float64], pose: RobotPose) -> NDArray[np.float64]:
-        """``fresh`` with every pose within :data:`_MIRROR_RADIUS` of the estimate's mirror image
+        """``fresh`` with every pose within :data:`~.frame_step.MIRROR_RADIUS` of the estimate's mirror image
         replaced by its own mirror image (which lies near the estimate). The mirror image
         explains the percepts exactly as well as the estimate: seeded there, a second mode would
         live on and could take the estimate across the field."""
-        near = np.hypot(fresh[:, 0] + pose.x, fresh[:, 1] + pose.y) < _MIRROR_RADIUS
+        near = np.hypot(fresh[:, 0] + pose.x, fresh[:, 1] + pose.y) < MIRROR_RADIUS
         fresh[near, :2] *= -1.0
         fresh[near, 2] = np.mod(fresh[near, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
         return fresh

@@ -22,7 +22,10 @@ The filter calls an :class:`Injection` at fixed points of its frame (:meth:`Inje
 after the observation update, :meth:`~Injection.count` and :meth:`~Injection.share` before
 resampling, :meth:`~Injection.inject` after it) and hands itself in, so that a strategy can use
 its map, its sensor tables and its random state; the strategy keeps its own state (AMCL's
-averages, the maturing candidates). All poses are (x m, y m, theta rad) in the team frame.
+averages, the maturing candidates). For the built-in strategies, exactly of these classes, the
+filter runs the same steps in one compiled call instead (:mod:`.frame_step`, which reads the
+few numbers in which they differ); a subclass of a user's keeps these Python calls. All poses
+are (x m, y m, theta rad) in the team frame.
 """
 
 from __future__ import annotations
@@ -85,10 +88,27 @@ class Injection:
 
     def __init__(self, params: LocalizationParams) -> None:
         self.params = params
-        self.w_slow = 0.0
+        self.averages = np.zeros(2)
+        """``w_slow`` and ``w_fast`` as one array, which the compiled frame
+        (:mod:`cognition.localization.frame_step`) updates in place."""
+
+    @property
+    def w_slow(self) -> float:
         """Slow average of the per-observation evidence (DNT 4.4; 0 when the strategy does not use it)."""
-        self.w_fast = 0.0
+        return float(self.averages[0])
+
+    @w_slow.setter
+    def w_slow(self, value: float) -> None:
+        self.averages[0] = value
+
+    @property
+    def w_fast(self) -> float:
         """Fast average of the per-observation evidence (DNT 4.4)."""
+        return float(self.averages[1])
+
+    @w_fast.setter
+    def w_fast(self, value: float) -> None:
+        self.averages[1] = value
 
     def initial_count(self) -> int:
         """Particles in use when the filter is built."""
