@@ -1,4 +1,4 @@
-"""The particle filter's whole frame in one compiled call, for the built-in strategies.
+"""The particle filter's whole frame in one compiled call (two at some resamplings), for the built-in strategies.
 
 :meth:`ParticleFilter._update <cognition.localization.particle_filter.ParticleFilter>` runs a
 frame as a sequence of steps: pack the observations (:mod:`.sensor`), the frame up to the
@@ -6,10 +6,13 @@ pose (:func:`.kernels.frame_nb`), the injection strategy's ``observe``, the safe
 (:func:`watch_nb`), and at a resampling the strategy's ``count`` and ``share``, the binomial
 draw of the number of poses to inject, the resampling (:func:`.resample.resample_nb`) and the
 strategy's ``inject``. Each step is a Python call around a kernel, some twenty microseconds per
-robot-frame in all. :func:`frame_step_nb` runs the same steps in one call, in the same order,
-with the same random streams (the filter's xorshift64* state, and its numpy ``Generator``,
-whose ``binomial`` numba implements with numpy's algorithm) and the same arithmetic, so a
-filter gives the same numbers to the bit on either path (``tests/test_frame_step.py``).
+robot-frame in all (``ParticleFilter._update_by_steps``). :func:`frame_step_nb` runs the same
+steps in one call, in the same order, with the same random streams and the same arithmetic,
+so a filter gives the same numbers to the bit on either path (``tests/test_frame_step.py``).
+One draw stays in Python: the number of poses to inject comes from the filter's numpy
+``Generator``, which numba takes as an argument only through Python code (about 14 µs a call,
+more than the whole frame's Python). So at a resampling with a share above 0 the kernel
+returns before resampling, the caller draws, and :func:`resample_step_nb` finishes the frame.
 
 The built-in strategies (:mod:`.strategy`, :mod:`.amcl`, :mod:`.resetting`, :mod:`.maturing`)
 differ in a few numbers, which :func:`knobs` reads from the strategy and the parameters, not
@@ -40,7 +43,8 @@ from cognition.localization.sensor import pack_nb
 from cognition.localization.strategy import Injection
 
 MIRROR_RADIUS = 1.5
-"""Poses from vision within this distance (m) of the estimate's mirror image are mirrored onto it."""
+"""Injected poses (from vision, matured candidates, the safety net's random ones) within this
+distance (m) of the estimate's mirror image are mirrored onto the estimate."""
 WATCH_MIN_FRAMES = 5
 """Observed frames the safety net needs in its window before it may act."""
 WATCH_MIN_SPAN = 0.8
