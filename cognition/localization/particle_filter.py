@@ -153,8 +153,12 @@ _MODELS: OrderedDict[FieldDimensions, FieldModel] = OrderedDict()
 _MODELS_KEPT = 8
 """Compiled maps kept (least recently used dropped): one per field geometry in use."""
 _OWN_HALF_STATES = (GameStateId.INITIAL, GameStateId.READY, GameStateId.SET)
+_NO_ROWS = np.zeros((0, 1))
 _NO_OFFSETS = np.zeros(2, dtype=np.int64)
-"""Percept offsets of no rows (a frame without percepts)."""
+"""A percept table of no rows and its offsets, for a frame without percepts or with an empty
+image. Writable, like the tables the simulator's percepts hold: :meth:`Percepts.empty
+<cognition.percepts.Percepts.empty>` holds read-only ones, another numba type, for which the
+compiled frame would be compiled a second time (about 30 s on a fresh machine)."""
 
 
 def field_model(field: Field) -> FieldModel:
@@ -364,8 +368,10 @@ class ParticleFilter(Localizer):
         n = self.n
         o = frame.odometry
         percepts = frame.percepts
-        rows, offsets = (NO_OBSERVATIONS, _NO_OFFSETS) if percepts is None else percepts.table_and_offsets
+        rows, offsets = (_NO_ROWS, _NO_OFFSETS) if percepts is None else percepts.table_and_offsets
         n_rows = offsets[-1] - offsets[0]
+        if n_rows == 0:
+            rows, offsets = _NO_ROWS, _NO_OFFSETS
         explained, packed, weights = np.empty(n_rows), np.empty((n_rows, N_O)), np.empty(n)
         self._watched = grow_ring(*self._watched, self._watch_state)
         cand, ages, in_use = self._candidates
