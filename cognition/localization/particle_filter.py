@@ -118,10 +118,10 @@ from cognition.localization.amcl import AMCLInjection
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
 from cognition.localization.frame_step import (
-    MIRROR_RADIUS,
     R_OBSERVED,
     R_RELOCALIZE,
     R_UNEXPLAINED,
+    away_from_mirror_nb,
     frame_step_nb,
     grow_ring,
     knobs,
@@ -489,9 +489,8 @@ class ParticleFilter(Localizer):
         replaced by its own mirror image (which lies near the estimate). The mirror image
         explains the percepts exactly as well as the estimate: seeded there, a second mode would
         live on and could take the estimate across the field."""
-        near = np.hypot(fresh[:, 0] + pose.x, fresh[:, 1] + pose.y) < MIRROR_RADIUS
-        fresh[near, :2] *= -1.0
-        fresh[near, 2] = np.mod(fresh[near, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
+        fresh = np.ascontiguousarray(fresh, dtype=np.float64)
+        away_from_mirror_nb(fresh, np.arange(fresh.shape[0]), pose.x, pose.y)  # the compiled frame's rule
         return fresh
 
     def uniform_poses(self, m: int) -> NDArray[np.float64]:
