@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 
+import numba as nb
 import numpy as np
 import pytest
 
@@ -199,3 +200,33 @@ def test_the_sensor_update_equals_the_plain_sensor_models(recorded) -> None:
     assert {int(T.POST), int(T.CROSS), int(T.LINE), int(T.CIRCLE)} <= kinds  # every map kind was exercised
     # about 2 x 2e-4 m / 5 cm of each coordinate lies that near an edge: a few percent of particles
     assert skipped < 0.03 * compared and worst < 1e-3, (skipped, compared, worst)
+
+
+def test_the_fast_exponential_and_logarithm_are_within_two_ulp_of_numpy() -> None:
+    """:func:`K.fast_exp` and :func:`K.log_into_nb` stand in for libm in the particle loops (they
+    vectorize); over the whole double range they must agree with numpy to the last bits."""
+    rng = np.random.default_rng(7)
+
+    @nb.njit(cache=False)
+    def exps(x: np.ndarray, out: np.ndarray) -> None:
+        for i in range(x.shape[0]):
+            out[i] = K.fast_exp(x[i])
+
+    x = np.concatenate([rng.uniform(-745.0, 709.0, 200_000), rng.normal(0.0, 1.0, 200_000), [0.0, -1e4, 709.0]])
+    got = np.empty_like(x)
+    exps(x, got)
+    ref = np.exp(x)
+    normal = ref > 2.3e-308
+    assert np.all(np.abs(got - ref)[normal] <= np.spacing(ref[normal]))  # 1 ulp
+    assert np.all(np.abs(got - ref)[~normal] <= 5e-324) and got[-2] == 0.0 and got[-3] == 1.0
+
+    y = np.concatenate([10.0 ** rng.uniform(-307.0, 307.0, 200_000), rng.uniform(0.5, 2.0, 200_000), [1.0, 2.0]])
+    logs = np.empty_like(y)
+    K.log_into_nb(y.copy(), logs, y.size)
+    ref = np.log(y)
+    assert np.all(np.abs(logs - ref) <= 2.0 * np.spacing(np.abs(ref)) + 1e-300)
+    assert logs[-2] == 0.0
+    special = np.array([0.0, np.inf, np.nan])
+    out = np.empty(3)
+    K.log_into_nb(special.copy(), out, 3)
+    assert out[0] == pytest.approx(math.log(2.2250738585072014e-308)) and out[1] == np.inf and np.isnan(out[2])

@@ -111,6 +111,85 @@ def fast_atan2(y, x):  # pragma: no cover - compiled
     return -r if y < 0.0 else r
 
 
+_POW2 = np.ldexp(1.0, np.arange(-1100, 1024)).astype(np.float64)
+_POW2.setflags(write=False)
+"""2^k for k in [-1100, 1023] (0 below 2^-1074), the scale of :func:`fast_exp`."""
+_LOG2E = 1.4426950408889634
+_LN2_HI = 6.93147180369123816490e-01  # ln 2 in two parts (Cody-Waite): k * _LN2_HI is exact
+_LN2_LO = 1.90821492927058770002e-10
+
+
+@nb.njit(cache=True, inline="always", fastmath=FASTMATH)
+def fast_exp(x):  # pragma: no cover - compiled
+    """exp(x) within about 1 ulp of libm's (0 below -745.2, x clamped at 709), branch-free so
+    that loops over particles vectorize (a libm call per element does not: about 4x slower).
+    x = k ln 2 + r with |r| <= ln 2 / 2; exp(r) by its Taylor series to r^13 (truncation
+    below 1e-17); 2^k from a table."""
+    x = min(max(x, -745.2), 709.0)
+    k = math.floor(x * _LOG2E + 0.5)
+    r = (x - k * _LN2_HI) - k * _LN2_LO
+    p = 1.0 / 6227020800.0
+    p = p * r + 1.0 / 479001600.0
+    p = p * r + 1.0 / 39916800.0
+    p = p * r + 1.0 / 3628800.0
+    p = p * r + 1.0 / 362880.0
+    p = p * r + 1.0 / 40320.0
+    p = p * r + 1.0 / 5040.0
+    p = p * r + 1.0 / 720.0
+    p = p * r + 1.0 / 120.0
+    p = p * r + 1.0 / 24.0
+    p = p * r + 1.0 / 6.0
+    p = p * r + 0.5
+    p = p * r + 1.0
+    p = p * r + 1.0
+    return p * _POW2[min(max(int(k) + 1100, 0), 2123)]  # clamped: a NaN x never indexes outside
+
+
+_MANTISSA = np.int64(0x000FFFFFFFFFFFFF)
+_ONE_BITS = np.int64(0x3FF0000000000000)
+_S52 = np.int64(52)
+_SQRT2 = math.sqrt(2.0)
+_MIN_NORMAL = 2.2250738585072014e-308
+
+
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
+def log_into_nb(src, dst, n):  # pragma: no cover - compiled
+    """``dst[i] = log(src[i])`` for i < n, within about 2 ulp of libm's, in loops that vectorize
+    (a libm call per element does not). ``src`` is clamped in place to at least the smallest
+    normal number (its log, -708.4, stands for 0 and subnormals); NaN and infinity pass through.
+    log x = e ln 2 + log m with x = m 2^e, m in [sqrt(1/2), sqrt(2)), read off the bits;
+    log m = 2 atanh(s), s = (m - 1) / (m + 1), |s| < 0.172, by its series to s^21."""
+    for i in range(n):
+        src[i] = max(src[i], _MIN_NORMAL)
+    bits = src[:n].view(np.int64)
+    mant = np.empty(n, dtype=np.int64)
+    expo = np.empty(n, dtype=np.int64)
+    for i in range(n):  # integer work on the bits
+        b = bits[i]
+        mant[i] = (b & _MANTISSA) | _ONE_BITS
+        expo[i] = (b >> _S52) & 2047
+    mf = mant.view(np.float64)
+    for i in range(n):
+        m = mf[i]
+        big = m > _SQRT2
+        m = 0.5 * m if big else m
+        e = float(expo[i] - 1023 + (1 if big else 0))
+        s = (m - 1.0) / (m + 1.0)
+        z = s * s
+        t = 1.0 / 21.0
+        t = t * z + 1.0 / 19.0
+        t = t * z + 1.0 / 17.0
+        t = t * z + 1.0 / 15.0
+        t = t * z + 1.0 / 13.0
+        t = t * z + 1.0 / 11.0
+        t = t * z + 1.0 / 9.0
+        t = t * z + 1.0 / 7.0
+        t = t * z + 1.0 / 5.0
+        t = t * z + 1.0 / 3.0
+        r = e * _LN2_HI + (2.0 * s + (2.0 * s * z * t + e * _LN2_LO))
+        dst[i] = r if expo[i] != 2047 else src[i]  # NaN and infinity as they are
+
+
 @nb.njit(cache=True, inline="always", fastmath=FASTMATH)
 def fast_sincos(a):  # pragma: no cover - compiled
     """(sin a, cos a) for any a, absolute error below 1e-6; branch-free polynomials."""
@@ -131,15 +210,16 @@ def _q(px, py, th, mx, my, dist, bear, inv_sr, inv_sb):  # pragma: no cover - co
     return -0.5 * (dd * dd + db * db)
 
 
-@nb.njit(cache=True, inline="always")
-def _cell(gx, gy, x0, y0, inv_cell, nx, ny):  # pragma: no cover - compiled
-    """Grid cell (row, column) of field point (gx, gy), clamped to the nx x ny grid (a
-    non-finite point maps to cell (0, 0): the conversion to int never sees NaN or inf)."""
+@nb.njit(cache=True, inline="always", fastmath=FASTMATH)
+def _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny):  # pragma: no cover - compiled
+    """Row-major index (row * nx + column) of the grid cell of field point (gx, gy), clamped to
+    the nx x ny grid (a non-finite point maps to cell 0: the conversion to int never sees NaN
+    or inf); branch-free, so that the loops computing it vectorize."""
     fx = (gx - x0) * inv_cell
     fy = (gy - y0) * inv_cell
-    fx = fx if fx >= 0.0 else 0.0  # also NaN -> 0
-    fy = fy if fy >= 0.0 else 0.0
-    return int(min(fy, ny - 1.0)), int(min(fx, nx - 1.0))
+    fx = min(fx if fx >= 0.0 else 0.0, nx - 1.0)  # also NaN -> 0
+    fy = min(fy if fy >= 0.0 else 0.0, ny - 1.0)
+    return int(fy) * nx + int(fx)
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -172,6 +252,9 @@ def log_likelihood_nb(
         acc[i] = 0.0
         raw[i] = 0.0
     x0, y0, inv_cell, nx, ny = geo[0], geo[1], 1.0 / geo[2], int(geo[3]), int(geo[4])
+    plane = nx * ny
+    lines_flat = line_grid.reshape(line_grid.size)  # C-contiguous (FieldModel): a view
+    cell = np.empty(n, dtype=np.int64)
     need = False
     for k in range(k_obs):
         need = need or obs[k, 0] in (1.0, 2.0, 4.0, 5.0)
@@ -203,11 +286,13 @@ def log_likelihood_nb(
             if not known or grid[0, 0] < 0:  # unknown kind, or no crossing of this kind on the field
                 q[:] = -1e4
             else:
-                for i in range(n):  # gathers (scalar): the associated crossing
+                flat = grid.reshape(grid.size)
+                for i in range(n):  # vectorized: the grid cell of the placement
                     gx = px[i] + cs[i] * ox - sn[i] * oy
                     gy = py[i] + sn[i] * ox + cs[i] * oy
-                    r, c = _cell(gx, gy, x0, y0, inv_cell, nx, ny)
-                    j = grid[r, c]
+                    cell[i] = _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny)
+                for i in range(n):  # gathers (scalar): the associated crossing
+                    j = flat[cell[i]]
                     lx[i], ly[i], lo[i] = crossings[j, 0], crossings[j, 1], crossings[j, 2]
                     lf[i] = 4.0 if crossings[j, 3] == 2 else 1.0  # X: orientation modulo 90 degrees
                 for i in range(n):  # arithmetic (vectorized)
@@ -215,14 +300,15 @@ def log_likelihood_nb(
                     do = wrap(lf[i] * (ob + th[i] - lo[i])) / lf[i] * inv_so
                     q[i] = v - 0.5 * do * do
         elif t == 2 and hough[0] < 0.5:  # line: CMU nearest-point model (both classes exist)
-            for i in range(n):  # gathers (scalar): the associated line's point nearest the particle
+            for i in range(n):  # vectorized: the grid cell (row-major in the class's plane) of the placement
                 g = oa + th[i]
                 g -= _PI * math.floor(g * _INV_PI)  # [0, pi)
                 cls = 0 if min(g, _PI - g) <= 0.25 * _PI else 1
                 gx = px[i] + cs[i] * ox - sn[i] * oy
                 gy = py[i] + sn[i] * ox + cs[i] * oy
-                r, c = _cell(gx, gy, x0, y0, inv_cell, nx, ny)
-                j = max(line_grid[cls, r, c], 0)  # -1 (no line of the class) cannot occur on a field with lines
+                cell[i] = cls * plane + _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny)
+            for i in range(n):  # gathers (scalar): the associated line's point nearest the particle
+                j = max(lines_flat[cell[i]], 0)  # -1 (no line of the class) cannot occur on a field with lines
                 x1, y1 = lines[j, 0], lines[j, 1]
                 dx, dy = lines[j, 2] - x1, lines[j, 3] - y1
                 u = min(max(((px[i] - x1) * dx + (py[i] - y1) * dy) * lines[j, 6], 0.0), 1.0)
@@ -251,23 +337,26 @@ def log_likelihood_nb(
         base = floor + (1.0 - conf)
         for i in range(n):
             raw[i] += max(q[i], -1e4)
+        for i in range(n):  # vectorized; the sum below is ordered (no reassociation)
+            lf[i] = fast_exp(q[i])
         e = 0.0
         if base > 0.0:
             for i in range(n):
-                p = math.exp(max(q[i], -1e4))
-                prod[i] *= base + conf * p
-                e += w[i] * p
+                prod[i] *= base + conf * lf[i]
         else:
             for i in range(n):
                 acc[i] += max(q[i], -1e4)
-                e += w[i] * math.exp(max(q[i], -1e4))
+        for i in range(n):
+            e += w[i] * lf[i]
         obs_ev[k] = e
         if (k + 1) % _BATCH == 0:
+            log_into_nb(prod, q, n)
             for i in range(n):
-                acc[i] += math.log(prod[i])
+                acc[i] += q[i]
                 prod[i] = 1.0
+    log_into_nb(prod, q, n)
     for i in range(n):
-        out[i] = acc[i] + math.log(prod[i])
+        out[i] = acc[i] + q[i]
         scratch[5, i] = raw[i]
 
 
@@ -357,11 +446,12 @@ def normalise_nb(logw, n, w):  # pragma: no cover - compiled
             logw[i] = 0.0
             w[i] = 1.0 / n
         return 0.0
-    total = 0.0
-    for i in range(n):
+    for i in range(n):  # vectorized
         v = logw[i] if math.isfinite(logw[i]) else lo
         logw[i] = v - m
-        w[i] = math.exp(v - m)
+        w[i] = fast_exp(v - m)
+    total = 0.0
+    for i in range(n):  # ordered sum
         total += w[i]
     shift = math.log(total / n)
     for i in range(n):
@@ -534,9 +624,12 @@ def frame_nb(
         m = -1e300
         for i in range(n):
             m = max(m, logw[i] + scratch[5, i])
+        e = np.empty(n)
+        for i in range(n):  # vectorized
+            e[i] = fast_exp(logw[i] + scratch[5, i] - m)
         total = 0.0
-        for i in range(n):
-            total += math.exp(logw[i] + scratch[5, i] - m)
+        for i in range(n):  # ordered sum
+            total += e[i]
         raw_evidence = m + math.log(total / n)
         for i in range(n):
             logw[i] += ll[i]
