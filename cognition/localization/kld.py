@@ -45,6 +45,8 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from cognition.localization.kernels import fast_exp
+
 
 def kld_bound(k: float, epsilon: float, z: float) -> float:
     """Fox's sample bound ``n(k)`` for ``k`` occupied bins (0 for ``k`` <= 1)."""
@@ -56,36 +58,52 @@ def kld_bound(k: float, epsilon: float, z: float) -> float:
 
 @nb.njit(cache=True, error_model="numpy", fastmath=False)
 def bin_masses_nb(parts, w, n, bin_xy, bin_th):  # pragma: no cover - compiled
-    """The summed weights of the occupied bins of particles [0, n) (weights ``w``, normalised)."""
-    keys = np.empty(n, dtype=np.int64)
+    """The summed weights of the occupied bins of particles [0, n) (weights ``w``, normalised),
+    in the order the bins are first met. The bins are counted in an open-addressing hash table
+    of at least twice ``n`` slots, one pass over the particles (a sort of the keys cost 5 to 8
+    microseconds for 300 particles, the table about 1)."""
+    size = 16
+    while size < 2 * n:
+        size *= 2
+    mask = size - 1
+    slot_key = np.full(size, np.int64(-1))
+    slot_bin = np.empty(size, dtype=np.int64)
+    masses = np.empty(max(n, 1))
+    bins = 0
     for i in range(n):
         ix = np.int64(math.floor(parts[i, 0] / bin_xy)) + 1000
         iy = np.int64(math.floor(parts[i, 1] / bin_xy)) + 1000
         it = np.int64(math.floor((parts[i, 2] + math.pi) / bin_th))
-        keys[i] = (ix * 2048 + iy) * 4096 + it
-    order = np.argsort(keys)
-    masses = np.empty(n)
-    b = -1
-    last = np.int64(-1)
-    for j in range(n):
-        i = order[j]
-        if b < 0 or keys[i] != last:
-            b += 1
-            masses[b] = 0.0
-            last = keys[i]
-        masses[b] += w[i]
-    return masses[: b + 1]
+        key = ((ix * 2048 + iy) * 4096 + it) & np.int64(0x3FFFFFFFFFFFFFFF)  # >= 0: -1 marks a free slot
+        h = (key * np.int64(-7046029254386353131)) >> np.int64(20)  # multiplicative hashing
+        j = h & mask
+        while slot_key[j] != -1 and slot_key[j] != key:
+            j = (j + 1) & mask
+        if slot_key[j] == -1:
+            slot_key[j] = key
+            slot_bin[j] = bins
+            masses[bins] = 0.0
+            bins += 1
+        masses[slot_bin[j]] += w[i]
+    return masses[:bins]
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=False)
 def kld_count_nb(masses, lo, hi, epsilon, z):  # pragma: no cover - compiled
     """The smallest n in [lo, hi] with n >= Fox's bound of the expected occupied bins after n
-    draws (``hi`` when none is)."""
+    draws (``hi`` when none is). (1 - m)^n is exp(n log(1 - m)), with the logarithms taken once."""
+    b = masses.shape[0]
+    logs = np.empty(b)
+    for j in range(b):
+        logs[j] = math.log1p(-min(masses[j], 1.0)) if masses[j] < 1.0 else -math.inf
+    miss = np.empty(b)
     while lo < hi:
         mid = (lo + hi) // 2
+        for j in range(b):  # vectorized
+            miss[j] = fast_exp(mid * logs[j])
         k = 0.0
-        for m in masses:
-            k += 1.0 - (1.0 - m) ** mid
+        for j in range(b):
+            k += 1.0 - miss[j]
         bound = 0.0
         if k > 1.0:
             a = 2.0 / (9.0 * (k - 1.0))
