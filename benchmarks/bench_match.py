@@ -117,6 +117,7 @@ def _targets() -> list[tuple[Any, str, str]]:
         (Vision, "detect", "vision"),
         (loc_base.Localizer, "update", "localization"),
         (particle_filter, "frame_step_nb", "loc. kernels"),  # the built-in strategies' frame (.frame_step)
+        (particle_filter, "resample_step_nb", "loc. kernels"),
         (sensor, "pack_nb", "loc. kernels"),  # the Python steps of another strategy
         (loc_kernels, "frame_nb", "loc. kernels"),
         (maturing, "mature_nb", "loc. kernels"),

@@ -230,22 +230,3 @@ def test_the_fast_exponential_and_logarithm_are_within_two_ulp_of_numpy() -> Non
     out = np.empty(3)
     K.log_into_nb(special.copy(), out, 3)
     assert out[0] == pytest.approx(math.log(2.2250738585072014e-308)) and out[1] == np.inf and np.isnan(out[2])
-
-
-def test_the_binomial_draw_follows_the_binomial_distribution() -> None:
-    """The number of poses to inject (:func:`K.binomial_nb` on the filter's xorshift64* state):
-    a chi-square test against scipy's Binomial(300, 0.1) and the edge cases p = 0 and 1."""
-    from scipy import stats
-
-    state = np.array([12345], dtype=np.uint64)
-    draws = np.array([K.binomial_nb(300, 0.1, state) for _ in range(20_000)])
-    counts = np.bincount(draws, minlength=301)
-    edges = np.arange(15, 46)  # pool the tails: every expected count is at least 20
-    expected = stats.binom.pmf(edges, 300, 0.1) * draws.size
-    observed = counts[edges].astype(float)
-    low, high = stats.binom.cdf(edges[0] - 1, 300, 0.1), stats.binom.sf(edges[-1], 300, 0.1)
-    observed = np.concatenate([[counts[: edges[0]].sum()], observed, [counts[edges[-1] + 1 :].sum()]])
-    expected = np.concatenate([[low * draws.size], expected, [high * draws.size]])
-    assert stats.chisquare(observed, expected).pvalue > 1e-3
-    assert K.binomial_nb(300, 0.0, state) == 0 and K.binomial_nb(300, 1.0, state) == 300
-    assert K.binomial_nb(0, 0.5, state) == 0

@@ -1,4 +1,4 @@
-"""The particle filter's whole frame in one compiled call, for the built-in strategies.
+"""The particle filter's whole frame in one compiled call (two at some resamplings), for the built-in strategies.
 
 :meth:`ParticleFilter._update <cognition.localization.particle_filter.ParticleFilter>` runs a
 frame as a sequence of steps: pack the observations (:mod:`.sensor`), the frame up to the
@@ -9,10 +9,10 @@ strategy's ``inject``. Each step is a Python call around a kernel, some twenty m
 robot-frame in all (``ParticleFilter._update_by_steps``). :func:`frame_step_nb` runs the same
 steps in one call, in the same order, with the same random streams and the same arithmetic,
 so a filter gives the same numbers to the bit on either path (``tests/test_frame_step.py``).
-The number of poses to inject is a binomial draw on the filter's own xorshift64* state
-(:func:`.kernels.binomial_nb`) on both paths. It used to come from the filter's numpy
-``Generator``, which numba takes as an argument only through Python code (about 14 µs a call):
-the kernel returned before such a resampling, Python drew, and a second call finished the frame.
+One draw stays in Python: the number of poses to inject comes from the filter's numpy
+``Generator``, which numba takes as an argument only through Python code (about 14 µs a call,
+more than the whole frame's Python). So at a resampling with a share above 0 the kernel
+returns before resampling, the caller draws, and :func:`resample_step_nb` finishes the frame.
 
 The built-in strategies (:mod:`.strategy`, :mod:`.amcl`, :mod:`.resetting`, :mod:`.maturing`)
 differ in a few numbers, which :func:`knobs` reads from the strategy and the parameters, not
@@ -190,8 +190,8 @@ def frame_step_nb(
     hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, rows, offsets, table, packed, blind,
     dx, dy, dth, now, own_half, kn, last_resample, times, bad, seen, watch, averages, cand, ages, in_use, slots,
 ):  # fmt: skip  # pragma: no cover - compiled
-    """One frame of a particle filter with a built-in strategy (module docstring), the
-    resampling and its injection included.
+    """One frame of a particle filter with a built-in strategy (module docstring), up to the
+    resampling, and the resampling too when it injects nothing.
 
     ``parts`` (its first ``n`` rows in use), ``logw``, ``w``: the particle set; ``spare``: the
     buffer the resampling draws into; ``w_pose`` receives the weights of the pose (before any
@@ -206,9 +206,12 @@ def frame_step_nb(
     :func:`.kernels.frame_nb`.
 
     Returns the pose (x, y, theta), its spread, the number of observations, the share of
-    particles replaced at a resampling (-1: no resampling in this frame; else the new set is in
-    ``spare``), the count drawn, the number of poses injected, and whether the safety net
-    asks the caller to relocalize now (it has cleared its flag).
+    particles to replace at a resampling (-1: no resampling in this frame), the count to draw,
+    and, when the share is 0 and the resampling has run here (the new set is in ``spare``),
+    whether the safety net asks the caller to relocalize now (it has cleared its flag). With a
+    share above 0 the caller draws the number of poses to inject with the filter's numpy
+    ``Generator`` (numba would take a ``Generator`` argument only through Python code, about 14
+    microseconds a call) and finishes with :func:`resample_step_nb`.
     """
     n_rows = offsets[-1] - offsets[0]
     obs = packed[:0] if blind or n_rows == 0 else packed[: pack_nb(rows, offsets, table, packed)]
@@ -231,7 +234,7 @@ def frame_step_nb(
     if k:
         watch_nb(now, unexplained, k, kn[C_WINDOW], kn[C_RELOCALIZE_SHARE], times, bad, seen, watch)
     if not (k and now - last_resample[0] >= kn[C_INTERVAL]):
-        return x, y, th, spread, k, -1.0, n, 0, False
+        return x, y, th, spread, k, -1.0, n, False
     last_resample[0] = now
     w_avg, w_raw = math.exp(ev / k), math.exp(raw / k)
     particles = int(kn[C_PARTICLES])
@@ -254,12 +257,13 @@ def frame_step_nb(
             lo = min(int(kn[C_KLD_MIN]), particles)
             masses = bin_masses_nb(parts, w, n, kn[C_KLD_BIN_XY], kn[C_KLD_BIN_THETA])
             n_new = kld_count_nb(masses, lo, particles, kn[C_KLD_EPSILON], kn[C_KLD_Z])
-    m_inj = K.binomial_nb(n_new, share, state) if share > 0.0 else 0
-    injected, relocalize = resample_step_nb(
-        parts, n, w, logw, spare, n_new, m_inj, slots, state, kn, obs, x, y, own_half, posts, crossings, marks, poles,
+    if share > 0.0:
+        return x, y, th, spread, k, share, n_new, False
+    _, relocalize = resample_step_nb(
+        parts, n, w, logw, spare, n_new, 0, slots, state, kn, obs, x, y, own_half, posts, crossings, marks, poles,
         watch, averages, cand, ages, in_use,
     )  # fmt: skip
-    return x, y, th, spread, k, share, n_new, injected, relocalize
+    return x, y, th, spread, k, 0.0, n_new, relocalize
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)

@@ -5,8 +5,7 @@ numba caches per file and would not notice an edit of a kernel in another file.
 
 * **Random numbers**: each filter owns a xorshift64* state (seeded from its numpy
   Generator), so kernels draw without Python round trips and without any global state;
-  normals are looked up in a fixed table of 2^16 standard normals, binomial counts are
-  Bernoulli trials (:func:`binomial_nb`).
+  normals are looked up in a fixed table of 2^16 standard normals.
 * **Motion model** (CMU paper, Alg. 2): the reported odometry (dx, dy, dtheta), robot frame
   of the previous frame, is perturbed per particle with sigmas proportional to the motion:
   sd(dx) = sigma_mx |dx|, sd(dy) = sigma_mx |dy|, sd(dtheta) = sigma_mtheta |dtheta| plus
@@ -66,16 +65,6 @@ def rand_u(state):  # pragma: no cover - compiled
 def rand_index(state, n):  # pragma: no cover - compiled
     """Uniform integer in [0, n) (n >= 1) from ``state`` (:func:`rand_u` scaled, clamped)."""
     return min(int(rand_u(state) * n), n - 1)
-
-
-@nb.njit(cache=True, error_model="python", fastmath=False)
-def binomial_nb(n, p, state):  # pragma: no cover - compiled
-    """A draw from Binomial(``n``, ``p``) as ``n`` Bernoulli trials on ``state`` (exact; about
-    2 ns a trial: the filter's counts are a few hundred)."""
-    hits = 0
-    for _ in range(n):
-        hits += 1 if rand_u(state) < p else 0
-    return hits
 
 
 _NORMALS = np.random.default_rng(20261122).standard_normal(1 << 16)

@@ -29,10 +29,10 @@ file named after its algorithm: :mod:`~cognition.localization.multinomial`,
 :mod:`~cognition.localization.resetting` and :mod:`~cognition.localization.maturing`
 (:mod:`cognition.localization.strategy` lists them); this module holds what every variant shares.
 Vision poses come from :mod:`cognition.localization.resetting`. The compiled steps (motion
-noise, resampling, the number of poses to inject, the poses and their slots, resetting) draw
-from the filter's own xorshift64* state, seeded from its numpy Generator.
-With a built-in strategy the frame's steps run in one compiled call,
-:mod:`cognition.localization.frame_step`;
+noise, resampling, injected poses and their slots, resetting) draw from the filter's own
+xorshift64* state, seeded from its numpy Generator, which only draws the number of injections.
+With a built-in strategy the frame's steps run in one compiled call (two when poses may be
+injected: the Generator draws their number in between), :mod:`cognition.localization.frame_step`;
 any other strategy runs them as Python calls (:meth:`ParticleFilter._update_by_steps`), and both
 paths give the same numbers to the bit (``tests/test_frame_step.py``).
 
@@ -118,7 +118,6 @@ from cognition.localization.amcl import AMCLInjection
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
 from cognition.localization.frame_step import (
-    R_COUNT,
     R_OBSERVED,
     R_RELOCALIZE,
     R_UNEXPLAINED,
@@ -126,6 +125,7 @@ from cognition.localization.frame_step import (
     frame_step_nb,
     grow_ring,
     knobs,
+    resample_step_nb,
     watch_nb,
 )
 from cognition.localization.kld import kld_count
@@ -363,7 +363,7 @@ class ParticleFilter(Localizer):
         self._own_half = frame.game.state in _OWN_HALF_STATES
         if self._knobs is None:
             return self._update_by_steps(frame)
-        # a built-in strategy: the steps of _update_by_steps in one compiled call (.frame_step)
+        # a built-in strategy: the steps of _update_by_steps in one or two compiled calls (.frame_step)
         p = self.params
         n = self.n
         o = frame.odometry
@@ -373,11 +373,10 @@ class ParticleFilter(Localizer):
         if n_rows == 0:
             rows, offsets = _NO_ROWS, _NO_OFFSETS
         explained, packed, weights = np.empty(n_rows), np.empty((n_rows, N_O)), np.empty(n)
-        if self._watch_state[R_COUNT] >= self._watched[0].shape[0]:  # the ring is full: grow it
-            self._watched = grow_ring(*self._watched, self._watch_state)
+        self._watched = grow_ring(*self._watched, self._watch_state)
         cand, ages, in_use = self._candidates
         parts, spare, averages = self.parts, self._spare, self.injection.averages
-        x, y, th, spread, k, share, n_new, injected, relocalize = frame_step_nb(
+        x, y, th, spread, k, share, n_new, relocalize = frame_step_nb(
             parts, spare, n, self.logw, self.w, weights, self.ll_buffer, self.scratch, self._prev, self._pose_par,
             self._pose_out, explained, self._motion, self.kernel_state, self.hough_params, *self.maps, rows, offsets,
             self._table, packed, bool(frame.picked_up or self._penalty), o.dx, o.dy, o.dtheta, frame.time,
@@ -386,7 +385,15 @@ class ParticleFilter(Localizer):
         )  # fmt: skip
         pose = RobotPose(x, y, th, self._cov.copy(), spread > p.lost_spread, n, parts[:n].copy(), weights, self.name)
         self.observation_evidence = explained[:k]
-        self.injected = injected
+        self.injected = 0
+        if share > 0.0:  # the number of poses to inject comes from the numpy Generator, as in _resample
+            m_inj = int(self.rng.binomial(n_new, share))
+            posts, crossings, _, marks, poles = self.maps[:5]
+            self.injected, relocalize = resample_step_nb(
+                parts, n, self.w, self.logw, spare, n_new, m_inj, self._slots, self.kernel_state, self._knobs,
+                packed[:k], x, y, self._own_half, posts, crossings, marks, poles, self._watch_state, averages, cand,
+                ages, in_use,
+            )  # fmt: skip
         if share >= 0.0:  # resampled: the new set is in the spare buffer
             self.parts, self._spare = spare, parts
             self.n = n_new
@@ -442,11 +449,12 @@ class ParticleFilter(Localizer):
         """Resample with the variant's draw and inject its strategy's fresh poses, if any.
 
         The injection strategy sets the particle count (``reset``: adaptive) and the share to
-        replace; the number of injections is a binomial draw on the filter's xorshift64* state
-        (:func:`~.kernels.binomial_nb`) before the compiled resampling runs, as in the compiled
-        frame, and one compiled call resamples, resets the weights and chooses the slots. Poses
-        from vision (``reset``, ``maturing``) that lie near the mirror image of ``pose``, the
-        estimate of this frame, are mirrored onto it first (:meth:`away_from_mirror`)."""
+        replace; the number of injections is drawn from the numpy Generator before the
+        compiled resampling runs: the two random streams are independent, so the order
+        between them does not matter, and one compiled call resamples, resets the weights and
+        chooses the slots. Poses from vision (``reset``, ``maturing``) that lie near the
+        mirror image of ``pose``, the estimate of this frame, are mirrored onto it first
+        (:meth:`away_from_mirror`)."""
         p = self.params
         inj = self.injection
         n_old = self.n
@@ -460,7 +468,7 @@ class ParticleFilter(Localizer):
                 n_new = kld_count(
                     self.parts, self.w, n_old, lo, p.particles, p.kld_epsilon, p.kld_z, p.kld_bin_xy, p.kld_bin_theta
                 )
-        m_inj = int(K.binomial_nb(n_new, share, self.kernel_state)) if share > 0.0 else 0
+        m_inj = int(self.rng.binomial(n_new, share)) if share > 0.0 else 0
         resample_nb(
             self.parts, n_old, self.w, self.logw, self._spare, n_new, self.resampling.low_variance,
             p.resample_jitter_xy, p.resample_jitter_theta, m_inj, self._slots, self.kernel_state,
