@@ -118,6 +118,7 @@ from cognition.localization.amcl import AMCLInjection
 from cognition.localization.base import Localizer
 from cognition.localization.fieldmodel import FieldModel
 from cognition.localization.frame_step import (
+    R_COUNT,
     R_OBSERVED,
     R_RELOCALIZE,
     R_UNEXPLAINED,
@@ -373,7 +374,8 @@ class ParticleFilter(Localizer):
         if n_rows == 0:
             rows, offsets = _NO_ROWS, _NO_OFFSETS
         explained, packed, weights = np.empty(n_rows), np.empty((n_rows, N_O)), np.empty(n)
-        self._watched = grow_ring(*self._watched, self._watch_state)
+        if self._watch_state[R_COUNT] >= self._watched[0].shape[0]:  # the ring is full: grow it
+            self._watched = grow_ring(*self._watched, self._watch_state)
         cand, ages, in_use = self._candidates
         parts, spare, averages = self.parts, self._spare, self.injection.averages
         x, y, th, spread, k, share, n_new, relocalize = frame_step_nb(
