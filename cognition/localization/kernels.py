@@ -22,11 +22,15 @@ Poses are (x m, y m, theta rad) in the team frame; angles are wrapped to [-pi, p
 
 **Observation likelihood** (the models of :mod:`cognition.localization.sensor`):
 Loop order is observation outside, particles inside, and each observation type has its
-own particle loops: a scalar loop gathers the associated map landmark of every particle,
-then a branch-free loop does the arithmetic, which the compiler vectorizes. Bearings use
-:func:`fast_atan2`, a polynomial with an error below 2e-5 rad (far below any bearing
-sigma), and rotations :func:`fast_sincos`: a libm call per particle and observation would
-dominate the cost and stop vectorization. The confidence floor of NimbRo eq. 9 needs the
+own particle loops: a branch-free loop finds each particle's grid cell, a scalar loop
+gathers the associated map landmark of every particle, then a branch-free loop does the
+arithmetic, which the compiler vectorizes. Bearings use :func:`fast_atan2`, a polynomial
+with an error below 2e-5 rad (far below any bearing sigma), and rotations
+:func:`fast_sincos`: a libm call per particle and observation would dominate the cost and
+stop vectorization. For the same reason the exponentials and logarithms of the particle loops
+are :func:`fast_exp` and :func:`log_into_nb` (numba has no vector math library here), within
+1 and 2 ulp of libm's, and the sums over particles run in loops of their own (without
+reassociation a sum keeps its loop scalar). The confidence floor of NimbRo eq. 9 needs the
 likelihood itself: the factors (floor + c exp(q)) of a particle are multiplied in linear
 space (each is at least the floor, so a few cannot underflow) and turned into a logarithm
 every :data:`_BATCH` observations.
