@@ -178,7 +178,7 @@ class Skills:
         self._lim_x = f.half_length + self.params.outside_allowance
         self._lim_y = f.half_width + self.params.outside_allowance
         self._cached: Beliefs | None = None
-        self._obstacles: list[tuple[float, float]] = []
+        self._obstacles: list[list[float]] = []
         self._bend_near: list[tuple[float, float, float]] = []
         """The obstacles :func:`_bend` can bend around (within ``_OBSTACLE_RADIUS + 0.3`` m), as its entries."""
         self._touching: list[tuple[float, float]] = []
@@ -465,20 +465,29 @@ class Skills:
     def _clamp_y(self, y: float) -> float:
         return max(-self._lim_y, min(self._lim_y, y))
 
-    def _obstacle_list(self, b: Beliefs) -> list[tuple[float, float]]:
-        """The beliefs' obstacles (robot frame) as plain tuples (cached per beliefs), and with
-        them the two subsets :meth:`_walk` loops over: those near enough for :func:`_bend` to
-        act on (it skips the others without changing the target) and those within the contact
-        distance. Both keep the obstacles' order, so the walk is the same to the bit."""
+    def _obstacle_list(self, b: Beliefs) -> list[list[float]]:
+        """The beliefs' obstacles (robot frame) as lists of two Python floats (cached per
+        beliefs), and with them the two subsets :meth:`_walk` loops over: those near enough for
+        :func:`_bend` to act on (it skips the others without changing the target) and those
+        within the contact distance. Both keep the obstacles' order, so the walk is the same to
+        the bit. One pass: ``math.hypot`` only for obstacles whose squared distance can be
+        within reach (a bound a little above reach squared: hypot and the square root of the
+        sum differ in the last bit at most)."""
         if self._cached is not b:
             self._cached = b
-            obstacles = self._obstacles = [(x, y) for x, y in b.obstacles.tolist()]  # Python floats
+            obstacles = self._obstacles = b.obstacles.tolist()  # Python floats
             reach = _OBSTACLE_RADIUS + 0.3  # as _bend compares
+            maybe2 = reach * reach * (1.0 + 1e-9)
             contact2 = self.params.contact_distance * self.params.contact_distance
-            self._bend_near = [
-                (x, y, _OBSTACLE_RADIUS) for x, y in obstacles if not ((d := math.hypot(x, y)) < 1e-6 or d > reach)
-            ]
-            self._touching = [(x, y) for x, y in obstacles if 1e-12 < x * x + y * y < contact2]
+            near: list[tuple[float, float, float]] = []
+            touching: list[tuple[float, float]] = []
+            for x, y in obstacles:
+                r2 = x * x + y * y
+                if r2 <= maybe2 and not ((d := math.hypot(x, y)) < 1e-6 or d > reach):
+                    near.append((x, y, _OBSTACLE_RADIUS))
+                if 1e-12 < r2 < contact2:
+                    touching.append((x, y))
+            self._bend_near, self._touching = near, touching
         return self._obstacles
 
     def _walk(
@@ -551,7 +560,7 @@ def _bend(obstacles: list[tuple[float, float, float]], ax: float, ay: float) -> 
     return ax, ay
 
 
-def _free_spot(obstacles: list[tuple[float, float]], tx: float, ty: float, space: float) -> tuple[float, float]:
+def _free_spot(obstacles: list[list[float]], tx: float, ty: float, space: float) -> tuple[float, float]:
     """Move the robot-frame target (tx, ty) out of the obstacles' personal space."""
     for ox, oy in obstacles:
         dx, dy = tx - ox, ty - oy
