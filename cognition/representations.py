@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -126,9 +127,10 @@ class SensorFrame:
     image: CameraImage | None = None
     """The latest camera image (image observation path), or ``None``."""
 
-    @property
+    @cached_property
     def penalty(self) -> int:
-        """Own penalty code from the game state (0 when playing)."""
+        """Own penalty code from the game state (0 when playing); worked out once per frame (the
+        frame is frozen), as several modules ask."""
         return int(self.game.team(self.team_number).players[self.player_number - 1].penalty)
 
 
