@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -127,10 +126,9 @@ class SensorFrame:
     image: CameraImage | None = None
     """The latest camera image (image observation path), or ``None``."""
 
-    @cached_property
+    @property
     def penalty(self) -> int:
-        """Own penalty code from the game state (0 when playing); worked out once per frame (the
-        frame is frozen), as several modules ask."""
+        """Own penalty code from the game state (0 when playing)."""
         return int(self.game.team(self.team_number).players[self.player_number - 1].penalty)
 
 
