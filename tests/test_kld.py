@@ -50,6 +50,32 @@ def test_bin_masses_match_a_numpy_histogram() -> None:
     assert np.allclose(np.sort(masses), np.sort(reference)) and masses.sum() == pytest.approx(1.0)
 
 
+def test_bin_masses_of_thousands_of_bins_and_of_a_non_finite_particle() -> None:
+    """The bins are counted in a hash table (linear probing): a cloud over the whole field puts
+    nearly every particle in its own bin, so many keys share a probe sequence; the masses must
+    still be numpy's histogram, in the order the bins are first met. A NaN particle (a broken
+    estimate, before the filter repairs it) gets some bin of its own, never an error."""
+    rng = np.random.default_rng(5)
+    n = 5000
+    parts = np.column_stack([rng.uniform(-5, 5, n), rng.uniform(-3.5, 3.5, n), rng.uniform(-math.pi, math.pi, n)])
+    w = rng.random(n)
+    w /= w.sum()
+    masses = bin_masses_nb(parts, w, n, P.kld_bin_xy, P.kld_bin_theta)
+    keys = np.column_stack(
+        [
+            np.floor(parts[:, 0] / P.kld_bin_xy),
+            np.floor(parts[:, 1] / P.kld_bin_xy),
+            np.floor((parts[:, 2] + math.pi) / P.kld_bin_theta),
+        ]
+    )
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    reference = np.bincount(inverse.ravel(), weights=w)[np.argsort(first)]  # in order of first appearance
+    assert masses.shape[0] > 0.9 * n and np.allclose(masses, reference)
+    parts[17] = np.nan
+    masses = bin_masses_nb(parts, w, n, P.kld_bin_xy, P.kld_bin_theta)
+    assert masses.sum() == pytest.approx(1.0)
+
+
 def test_the_count_grows_with_the_spread_from_the_floor_to_the_cap() -> None:
     rng = np.random.default_rng(2)
     counts = []
