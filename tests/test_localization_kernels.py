@@ -19,6 +19,7 @@ import pytest
 
 from cognition.localization import LocalizationParams
 from cognition.localization import kernels as K  # noqa: N812 - the kernel namespace
+from cognition.localization.approx import fast_exp, log_into_nb
 from cognition.localization.particle_filter import ParticleFilter
 from cognition.localization.sensor import O, T, pack_observations
 from teamsim.events import Kidnap
@@ -203,14 +204,14 @@ def test_the_sensor_update_equals_the_plain_sensor_models(recorded) -> None:
 
 
 def test_the_fast_exponential_and_logarithm_are_within_two_ulp_of_numpy() -> None:
-    """:func:`K.fast_exp` and :func:`K.log_into_nb` stand in for libm in the particle loops (they
+    """:func:`fast_exp` and :func:`log_into_nb` stand in for libm in the particle loops (they
     vectorize); over the whole double range they must agree with numpy to the last bits."""
     rng = np.random.default_rng(7)
 
     @nb.njit(cache=False)
     def exps(x: np.ndarray, out: np.ndarray) -> None:
         for i in range(x.shape[0]):
-            out[i] = K.fast_exp(x[i])
+            out[i] = fast_exp(x[i])
 
     x = np.concatenate([rng.uniform(-745.0, 709.0, 200_000), rng.normal(0.0, 1.0, 200_000), [0.0, -1e4, 709.0]])
     got = np.empty_like(x)
@@ -222,11 +223,11 @@ def test_the_fast_exponential_and_logarithm_are_within_two_ulp_of_numpy() -> Non
 
     y = np.concatenate([10.0 ** rng.uniform(-307.0, 307.0, 200_000), rng.uniform(0.5, 2.0, 200_000), [1.0, 2.0]])
     logs = np.empty_like(y)
-    K.log_into_nb(y.copy(), logs, y.size)
+    log_into_nb(y.copy(), logs, y.size)
     ref = np.log(y)
     assert np.all(np.abs(logs - ref) <= 2.0 * np.spacing(np.abs(ref)) + 1e-300)
     assert logs[-2] == 0.0
     special = np.array([0.0, np.inf, np.nan])
     out = np.empty(3)
-    K.log_into_nb(special.copy(), out, 3)
+    log_into_nb(special.copy(), out, 3)
     assert out[0] == pytest.approx(math.log(2.2250738585072014e-308)) and out[1] == np.inf and np.isnan(out[2])
