@@ -45,7 +45,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.localization.kernels import fast_exp
+from cognition.localization.approx import fast_exp
 
 
 def kld_bound(k: float, epsilon: float, z: float) -> float:
@@ -95,7 +95,7 @@ def kld_count_nb(masses, lo, hi, epsilon, z):  # pragma: no cover - compiled
     b = masses.shape[0]
     logs = np.empty(b)
     for j in range(b):
-        logs[j] = math.log1p(-min(masses[j], 1.0)) if masses[j] < 1.0 else -math.inf
+        logs[j] = math.log1p(-masses[j]) if masses[j] < 1.0 else -math.inf
     miss = np.empty(b)
     while lo < hi:
         mid = (lo + hi) // 2
