@@ -74,6 +74,7 @@ from cognition.oracle import OracleInput, OraclePose
 from cognition.percepts import Percepts
 from cognition.pipeline import CognitionConfig, PipelineError, plan
 from cognition.representations import MotionRequest, RobotPose, SensorFrame
+from teamsim import walking as wk
 from teamsim.brains import BrainFactory, LocalizationErrors, default_brains
 from teamsim.channel import ChannelParams, TeamChannel
 from teamsim.events import (
@@ -264,6 +265,8 @@ class Match:
         if c.observation == "images":
             self.image_renderer = ImageRenderer(self.field, scheme, c.camera, c.images, image_rng)
         self._scene = Scene(n)
+        self._teams = np.array([float(r.team) for r in self.world.robots])
+        """Team index of every robot (scene building)."""
         self._captures: deque[list[Percepts] | list[CameraImage | None]] = deque()
         self._capture_index = 0
         self.percept_count = 0
@@ -434,24 +437,11 @@ class Match:
         p = self.config.percepts
         standing, lying = p.robot_height, p.fallen_height
         radius = self.config.physics.robot.radius
-        signs = (self.referee.sign(0), self.referee.sign(1))
+        sign0, sign1 = self.referee.sign(0), self.referee.sign(1)
+        wk.scene_rows_nb(
+            self.world.motion.array, self._teams, sign0, sign1, radius, standing, lying, sc.observers, sc.occluders
+        )  # fmt: skip
         robots = self.world.robots
-        obs, occ = [], []
-        for robot in robots:
-            x, y, theta = robot.body_pose
-            yaw, pitch, yaw_rate, pitch_rate, camera = robot.head_joints
-            vx, vy, w = robot.velocity
-            on = robot.in_space
-            fallen = robot.fallen_until >= 0
-            walking = vx != 0.0 or vy != 0.0 or w != 0.0
-            sees = on and not fallen and not robot.picked_up
-            obs.append(
-                (x, y, theta, yaw, pitch, yaw_rate, pitch_rate, 0.0 if camera == "upper" else 1.0,
-                 float(walking), float(sees), signs[robot.team], robot.team)
-            )  # fmt: skip
-            occ.append((x, y, radius, lying if fallen else standing, float(on)))
-        sc.observers[:] = obs
-        sc.occluders[:] = occ
         sc.turn_rates[:] = [robot.body.angular_velocity for robot in robots]
         b = self.world.ball
         bx, by = b.position
@@ -489,10 +479,11 @@ class Match:
         oracles: list[OracleInput | None] = []
         team_numbers = self.config.referee.team_numbers
         frame_index = self.frames
+        motions = self.world.take_motions()
         for i, (robot, brain) in enumerate(zip(self.world.robots, self.brains, strict=True)):
-            planned, true = robot.take_motion()
-            self.true_odometry[i] = TrueOdometry(*true)
-            odo = self.odometry[i].report(planned)
+            mo = motions[i]  # planned (dx, dy, dtheta), then true, robot frame
+            self.true_odometry[i] = TrueOdometry(mo[3], mo[4], mo[5])
+            odo = self.odometry[i].report((mo[0], mo[1], mo[2]))
             frame = SensorFrame(
                 time=now,
                 frame_index=frame_index,

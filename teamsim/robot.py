@@ -55,7 +55,9 @@ from pymunk._chipmunk_cffi import lib as _chipmunk
 
 from cognition.geometry import wrap_angle
 from cognition.representations import HeadRequest, HeadState, KickRequest, WalkRequest
+from teamsim import walking as wk
 from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
+from teamsim.walking import RobotStates
 
 get_position = _chipmunk.cpBodyGetPosition
 """pymunk's C getter of a body's position: ``get_position(body._body)`` is a C struct whose ``x``
@@ -74,6 +76,9 @@ carry for type checkers and the property's Python function (the physics loop set
 bodies' velocities in most steps)."""
 set_angular_velocity = _chipmunk.cpBodySetAngularVelocity
 """pymunk's C setter of a body's angular velocity (``body.angular_velocity = w``; see :data:`set_velocity`)."""
+
+_ZEROS6 = memoryview(np.zeros(6))
+"""Six zeros, for resetting the planned and true motion of a state row in one copy."""
 
 COLLISION_ROBOT = 1
 COLLISION_BALL = 2
@@ -164,7 +169,17 @@ class Robot:
     last motion request until a new one arrives.
     """
 
-    def __init__(self, team: int, number: int, params: RobotParams, rng: np.random.Generator):
+    def __init__(
+        self,
+        team: int,
+        number: int,
+        params: RobotParams,
+        rng: np.random.Generator,
+        states: RobotStates | None = None,
+        row: int = 0,
+    ):
+        """``states``, ``row``: the row of the motion state array this robot keeps its per-step state
+        in (:mod:`teamsim.walking`; the world's, shared by all its robots), or a row of its own."""
         self.team = team
         self.number = number
         self.params = params
@@ -182,45 +197,114 @@ class Robot:
         self.gear = pymunk.GearJoint(self.control, self.body, 0.0, 1.0)
         self.gear.max_bias = 0.0
         self.gear.max_force = params.floor_torque
+        states = RobotStates(1) if states is None else states
+        self._m = states.view
+        """The motion state array, flat (a memoryview: single values read as plain floats)."""
+        self._o = row * wk.WIDTH
+        """Offset of this robot's row in :attr:`_m` (columns: :mod:`teamsim.walking`)."""
+        m, o = self._m, self._o
+        for c in range(wk.WIDTH):
+            m[o + c] = 0.0
+        m[o + wk.FALLEN_UNTIL] = m[o + wk.FALLEN_SINCE] = -1.0
+        m[o + wk.LIN_ACC], m[o + wk.ANG_ACC] = params.max_linear_accel, params.max_angular_accel
         self.in_space = False
+        """In the physics space (a plain attribute, mirrored into the state row by :meth:`add_to`
+        and :meth:`remove_from`, the only places that change it)."""
         self.walk_target = WalkRequest()
-        self.velocity = [0.0, 0.0, 0.0]  # executed walk speed (vx m/s, vy m/s, w rad/s), robot frame
-        self._head_joints: tuple[float, float, float, float, Literal["upper", "lower"]] = (0.0, 0.0, 0.0, 0.0, "upper")
-        """The head's (yaw rad, pitch rad, yaw rate rad/s, pitch rate rad/s, camera), advanced by
-        :meth:`_step_head` at the physics rate; :attr:`head` packs it when someone reads it."""
         self._head: HeadState | None = HeadState()
-        """:attr:`head` as last packed (``None`` after the joints moved)."""
+        """:attr:`head` as last packed (rebuilt after the joints moved)."""
         self.head_target = HeadRequest()
         self.kick_request: KickRequest | None = None
-        self.busy_until = 0.0  # kicking
-        self.fallen_until = -1.0
-        self.fallen_since = -1.0
-        self.picked_up = False
         self.penalized = False
-        self.planned = (0.0, 0.0, 0.0)  # walking engine's own motion since last frame
-        self.true_motion = (0.0, 0.0, 0.0)  # actual body motion since last frame
-        self._target = (0.0, 0.0, 0.0)
-        """The walk target clipped to the robot's limits (:meth:`_clipped_target`), set by :meth:`command`."""
-        self._goal = self._head_goal()
-        """The head target clipped to the joint limits (:meth:`_head_goal`), set by :meth:`command`."""
-        self._control = (0.0, 0.0, 0.0)
-        """The control body's (vx, vy, angular velocity) as last set (m/s, rad/s, world frame): a
-        kinematic body keeps its velocity, so an unchanged command is not sent to pymunk again."""
+        self._set_goal()
         self.body_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
         """World pose as the physics body holds it (x m, y m, theta rad, not wrapped); read-only for
         everyone else. Read from pymunk after every physics step and set by :meth:`teleport`:
         nothing else moves the body, so reading it once per step serves the walking engine,
-        :attr:`pose` and the referee's many looks (a plain attribute: they read it in every step)."""
+        :attr:`pose` and the referee's many looks (a plain attribute: they read it in every step;
+        the state row holds a copy for the compiled walking engine)."""
         self._pose: tuple[float, float, float] | None = (0.0, 0.0, 0.0)
         """``body_pose`` with the angle wrapped (:attr:`pose`); ``None`` until first asked for after
         the body moved (the walking engine and the foul checks need only ``body_pose``)."""
-        self._step_rotation: tuple[float, float] | None = None
-        """cos and sin of the body angle at the start of the physics step in progress, computed by
-        :meth:`pre_step` and reused by :meth:`post_step` (the body does not turn in between);
-        ``None`` when pre_step did not need them."""
-        self._head_resting = False
-        """The head is at its clipped target with zero rates and reads the requested camera:
-        :meth:`_step_head` would change nothing until :meth:`command` sets a new target."""
+
+    # -- the state row -----------------------------------------------------------------------
+    def _triple(self, c: int) -> tuple[float, float, float]:
+        m, o = self._m, self._o + c
+        return (m[o], m[o + 1], m[o + 2])
+
+    def _set_triple(self, c: int, v: tuple[float, float, float] | list[float]) -> None:
+        m, o = self._m, self._o + c
+        m[o], m[o + 1], m[o + 2] = float(v[0]), float(v[1]), float(v[2])
+
+    @property
+    def velocity(self) -> tuple[float, float, float]:
+        """Executed walk speed (vx m/s, vy m/s, w rad/s; robot frame)."""
+        return self._triple(wk.VX)
+
+    @velocity.setter
+    def velocity(self, v: tuple[float, float, float] | list[float]) -> None:
+        self._set_triple(wk.VX, v)
+
+    @property
+    def planned(self) -> tuple[float, float, float]:
+        """The walking engine's own motion since the last :meth:`take_motion` (m, m, rad; robot frame)."""
+        return self._triple(wk.PX)
+
+    @property
+    def true_motion(self) -> tuple[float, float, float]:
+        """The body's true motion since the last :meth:`take_motion` (m, m, rad; robot frame)."""
+        return self._triple(wk.MX)
+
+    @property
+    def fallen_until(self) -> float:
+        """Time (s) when the robot stands again; -1 while it is not fallen."""
+        return self._m[self._o + wk.FALLEN_UNTIL]
+
+    @fallen_until.setter
+    def fallen_until(self, t: float) -> None:
+        self._m[self._o + wk.FALLEN_UNTIL] = float(t)
+
+    @property
+    def fallen_since(self) -> float:
+        """Time (s) when the robot fell; -1 while it is not fallen."""
+        return self._m[self._o + wk.FALLEN_SINCE]
+
+    @fallen_since.setter
+    def fallen_since(self, t: float) -> None:
+        self._m[self._o + wk.FALLEN_SINCE] = float(t)
+
+    @property
+    def busy_until(self) -> float:
+        """Time (s) when the kick motion in progress ends (walking waits until then)."""
+        return self._m[self._o + wk.BUSY_UNTIL]
+
+    @busy_until.setter
+    def busy_until(self, t: float) -> None:
+        self._m[self._o + wk.BUSY_UNTIL] = float(t)
+
+    @property
+    def picked_up(self) -> bool:
+        """Both feet are off the ground (the referee carries the robot)."""
+        return self._m[self._o + wk.PICKED] != 0.0
+
+    @picked_up.setter
+    def picked_up(self, value: bool) -> None:
+        self._m[self._o + wk.PICKED] = 1.0 if value else 0.0
+
+    def _set_goal(self) -> None:
+        """Write the clipped head target (:meth:`_head_goal`) and the requested camera into the state
+        row; the head moves again."""
+        m, o = self._m, self._o
+        m[o + wk.GYAW], m[o + wk.GPITCH], m[o + wk.GSPEED] = self._head_goal()
+        m[o + wk.GCAM] = 1.0 if self.head_target.camera == "lower" else 0.0
+        m[o + wk.RESTING] = 0.0
+
+    def _store_body_pose(self, x: float, y: float, theta: float) -> None:
+        """Set :attr:`body_pose` and its copy in the state row (the start pose of the next step)."""
+        self.body_pose = (x, y, theta)
+        self._pose = None
+        m, o = self._m, self._o
+        m[o + wk.BX], m[o + wk.BY], m[o + wk.BTH] = x, y, theta
 
     # -- placement -------------------------------------------------------------------------
     def add_to(self, space: pymunk.Space) -> None:
@@ -228,12 +312,14 @@ class Robot:
         if not self.in_space:
             space.add(self.body, self.shape, self.control, self.pivot, self.gear)
             self.in_space = True
+            self._m[self._o + wk.IN_SPACE] = 1.0
 
     def remove_from(self, space: pymunk.Space) -> None:
         """Take the robot off the field (out of the physics space)."""
         if self.in_space:
             space.remove(self.body, self.shape, self.control, self.pivot, self.gear)
             self.in_space = False
+            self._m[self._o + wk.IN_SPACE] = 0.0
 
     def teleport(self, x: float, y: float, theta: float) -> None:
         """Move the robot without any motion being sensed (placement, kidnapping)."""
@@ -245,8 +331,8 @@ class Robot:
         self.control.angle = theta
         self.control.velocity = (0.0, 0.0)
         self.control.angular_velocity = 0.0
-        self._control = (0.0, 0.0, 0.0)
-        self.velocity = [0.0, 0.0, 0.0]
+        self._set_triple(wk.CX, (0.0, 0.0, 0.0))
+        self._set_triple(wk.VX, (0.0, 0.0, 0.0))
         self._read_body()
         if self.body.space is not None:
             self.body.space.reindex_shapes_for_body(self.body)
@@ -264,32 +350,40 @@ class Robot:
     def head(self) -> HeadState:
         """Measured head joint angles and rates (relative to the torso) after the last physics step."""
         head = self._head
-        if head is None:
-            yaw, pitch, yaw_rate, pitch_rate, camera = self._head_joints
-            head = self._head = HeadState(yaw=yaw, pitch=pitch, yaw_rate=yaw_rate, pitch_rate=pitch_rate, camera=camera)
+        m, o = self._m, self._o
+        if head is None or m[o + wk.HEAD_MOVED] != 0.0:
+            head = self._head = HeadState(
+                yaw=m[o + wk.HYAW],
+                pitch=m[o + wk.HPITCH],
+                yaw_rate=m[o + wk.HYR],
+                pitch_rate=m[o + wk.HPR],
+                camera="lower" if m[o + wk.HCAM] != 0.0 else "upper",
+            )
+            m[o + wk.HEAD_MOVED] = 0.0
         return head
 
     @property
     def head_joints(self) -> tuple[float, float, float, float, Literal["upper", "lower"]]:
         """The head's (yaw rad, pitch rad, yaw rate rad/s, pitch rate rad/s, camera read) now:
         :attr:`head` unpacked, without building it."""
-        return self._head_joints
+        m, o = self._m, self._o
+        camera: Literal["upper", "lower"] = "lower" if m[o + wk.HCAM] != 0.0 else "upper"
+        return (m[o + wk.HYAW], m[o + wk.HPITCH], m[o + wk.HYR], m[o + wk.HPR], camera)
 
     def _read_body(self) -> None:
         """Read the body's pose from pymunk into :attr:`body_pose` (:attr:`pose` follows on demand)."""
         handle = self.body._body
         v = get_position(handle)
-        self.body_pose = (v.x, v.y, get_angle(handle))
-        self._pose = None
+        self._store_body_pose(v.x, v.y, get_angle(handle))
 
     # -- commands --------------------------------------------------------------------------
     def command(self, walk: WalkRequest, kick: KickRequest | None, head: HeadRequest) -> None:
         """Take a new motion request (called once per cognition frame)."""
         self.walk_target = walk
-        self._target = self._clipped_target()
+        m, o = self._m, self._o
+        m[o + wk.TX], m[o + wk.TY], m[o + wk.TW] = self._clipped_target()  # floats (see there)
         self.head_target = head
-        self._goal = self._head_goal()
-        self._head_resting = False
+        self._set_goal()
         if kick is not None and self.kick_request is None and self.can_walk_at_all():
             self.kick_request = kick
 
@@ -308,7 +402,7 @@ class Robot:
             self.fallen_since = now
         self.fallen_until = max(self.fallen_until, now + duration)
         self.kick_request = None
-        self.velocity = [0.0, 0.0, 0.0]
+        self._set_triple(wk.VX, (0.0, 0.0, 0.0))
         return self.fallen_until
 
     def _clipped_target(self) -> tuple[float, float, float]:
@@ -325,96 +419,14 @@ class Robot:
             + (turn / p.max_turn) ** 2
         )
         scale = 1.0 / norm if norm > 1.0 else 1.0
-        return (fwd * scale, left * scale, turn * scale)
-
-    # -- per physics step ------------------------------------------------------------------
-    def pre_step(self, now: float, dt: float) -> None:
-        """Advance the walking engine and head by ``dt`` (s) and set the control body.
-
-        The executed walk speed (robot frame) moves toward the clipped target by at most
-        ``max_linear_accel * dt`` (m/s) and ``max_angular_accel * dt`` (rad/s) per axis; the control
-        body gets that speed rotated into the world frame by the body angle at the start of the
-        step, and the planned motion integrates it in the robot frame.
-        """
-        if not self._head_resting:
-            self._step_head(dt)
-        if not self.in_space:
-            return
-        fallen_until = self.fallen_until
-        if fallen_until >= 0 and now >= fallen_until:
-            self.fallen_until = fallen_until = -1.0
-            self.fallen_since = -1.0
-        if self.picked_up or fallen_until >= 0:
-            vx = vy = w = 0.0
-            self.velocity = [0.0, 0.0, 0.0]
-        else:
-            p = self.params
-            tx, ty, tw = (0.0, 0.0, 0.0) if now < self.busy_until else self._target
-            lin, ang = p.max_linear_accel * dt, p.max_angular_accel * dt
-            vx, vy, w = self.velocity
-            # each axis: v + min(limit, max(-limit, target - v)), written as comparisons
-            d = tx - vx
-            vx += lin if d > lin else (-lin if d < -lin else d)
-            d = ty - vy
-            vy += lin if d > lin else (-lin if d < -lin else d)
-            d = tw - w
-            w += ang if d > ang else (-ang if d < -ang else d)
-            self.velocity = [vx, vy, w]
-        last = self._control
-        if vx == 0.0 and vy == 0.0 and w == 0.0 and last == (0.0, 0.0, 0.0):
-            # Standing with a still control body: the rotated speed would compare equal to the
-            # last one sent (nothing to send), and adding zero motion leaves the planned motion
-            # as it is bit for bit (its components start at +0.0 and a sum is -0.0 only when
-            # both terms are).
-            self._step_rotation = None
-            return
-        th = self.body_pose[2]
-        c, s = math.cos(th), math.sin(th)
-        self._step_rotation = (c, s)
-        cvx, cvy = c * vx - s * vy, s * vx + c * vy
-        if cvx != last[0] or cvy != last[1] or w != last[2]:
-            # A kinematic body keeps its velocity (the solver adds at most a zero to it), so a
-            # non-zero value equal to the last one sent is already there bit for bit; zeros are
-            # sent again, as they may differ in sign.
-            if cvx != last[0] or cvy != last[1] or cvx == 0.0 or cvy == 0.0:
-                set_velocity(self.control._body, (cvx, cvy))
-            if w != last[2] or w == 0.0:
-                set_angular_velocity(self.control._body, w)
-            self._control = (cvx, cvy, w)
-        # planned = compose(planned, (vx dt, vy dt, w dt)), inlined
-        px, py, pth = self.planned
-        pc, ps = math.cos(pth), math.sin(pth)
-        dx, dy = vx * dt, vy * dt
-        self.planned = (px + pc * dx - ps * dy, py + ps * dx + pc * dy, pth + w * dt)
-
-    def post_step(self) -> None:
-        """Accumulate the true body motion of the step just simulated (after :meth:`pre_step`)."""
-        if not self.in_space:
-            return
-        x0, y0, th0 = self.body_pose
-        handle = self.body._body
-        v = get_position(handle)  # body.position and body.angle, read in C (see get_position)
-        x1, y1 = v.x, v.y
-        th1 = get_angle(handle)
-        self.body_pose = (x1, y1, th1)  # as _read_body
-        self._pose = None
-        if x1 == x0 and y1 == y0 and th1 == th0:
-            return  # adding zero motion leaves the true motion as it is (see pre_step)
-        rotation = self._step_rotation
-        c, s = (math.cos(th0), math.sin(th0)) if rotation is None else rotation
-        dxw, dyw = x1 - x0, y1 - y0
-        lx, ly = c * dxw + s * dyw, -s * dxw + c * dyw
-        # true_motion = compose(true_motion, (lx, ly, th1 - th0)), inlined
-        ax, ay, ath = self.true_motion
-        ac, as_ = math.cos(ath), math.sin(ath)
-        self.true_motion = (ax + ac * lx - as_ * ly, ay + as_ * lx + ac * ly, ath + (th1 - th0))
+        return (fwd * scale, left * scale, turn * scale)  # floats, even for integer requests (scale is one)
 
     def take_motion(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
         """Return and reset (planned, true) motion since the last call, robot frame."""
-        out = (self.planned, self.true_motion)
-        self.planned = (0.0, 0.0, 0.0)
-        self.true_motion = (0.0, 0.0, 0.0)
-        return out
+        m, o = self._m, self._o + wk.PX
+        out = m[o : o + 6].tolist()  # planned (PX, PY, PTH), then true (MX, MY, MTH)
+        m[o : o + 6] = _ZEROS6
+        return (tuple(out[:3]), tuple(out[3:]))
 
     def _head_goal(self) -> tuple[float, float, float]:
         """The head target's (yaw rad, pitch rad, speed rad/s) clipped to the joint limits."""
@@ -422,32 +434,7 @@ class Robot:
         t = self.head_target
         ty = min(max(t.yaw, -p.head_yaw_limit), p.head_yaw_limit)
         tp = min(max(t.pitch, p.head_pitch_min), p.head_pitch_max)
-        return (ty, tp, min(t.speed, p.head_max_speed))
-
-    def _step_head(self, dt: float) -> None:
-        """Move the head joints toward the clipped target by at most ``speed * dt`` (rad) each."""
-        yaw, pitch, yaw_rate, pitch_rate, camera_now = self._head_joints
-        ty, tp, speed = self._goal
-        camera = self.head_target.camera
-        if ty == yaw and tp == pitch and yaw_rate == 0.0 and pitch_rate == 0.0 and camera_now == camera:
-            self._head_resting = True  # until the next command
-            return
-        reach = speed * dt
-        # min(max(target - angle, -reach), reach), written as comparisons
-        dy = ty - yaw
-        if -reach > dy:
-            dy = -reach
-        if reach < dy:
-            dy = reach
-        dp = tp - pitch
-        if -reach > dp:
-            dp = -reach
-        if reach < dp:
-            dp = reach
-        if dy == 0.0 and dp == 0.0 and yaw_rate == 0.0 and pitch_rate == 0.0 and camera_now == camera:
-            return
-        self._head_joints = (yaw + dy, pitch + dp, dy / dt, dp / dt, camera)
-        self._head = None
+        return (float(ty), float(tp), float(min(t.speed, p.head_max_speed)))
 
     def try_kick(self, now: float, ball: pymunk.Body, ball_radius: float) -> bool:
         """Execute a pending kick; returns True if the ball was struck."""

@@ -45,12 +45,29 @@ from teamsim.robot import (
     COLLISION_WALL,
     Robot,
     RobotParams,
+    get_angle,
     get_angular_velocity,
+    get_position,
     get_velocity,
     set_angular_velocity,
     set_velocity,
 )
 from teamsim.state import RobotTruth, WorldSnapshot
+from teamsim.walking import (
+    CW,
+    CX,
+    CY,
+    NTH,
+    NX,
+    NY,
+    SEND_ANGULAR,
+    SEND_VELOCITY,
+    WIDTH,
+    RobotStates,
+    post_step_nb,
+    pre_step_nb,
+    take_motions_nb,
+)
 
 _space_step = _chipmunk.cpSpaceStep
 
@@ -163,11 +180,18 @@ class World:
         self.space.add(self.ball, self.ball_shape)
         self.robots: list[Robot] = []
         self._by_shape: dict[pymunk.Shape, Robot] = {}
+        self.motion = RobotStates(2 * players_per_team)
+        """Every robot's walking engine and head state, one row each (:mod:`teamsim.walking`)."""
         for i in range(2 * players_per_team):
             team, number = divmod(i, players_per_team)
-            robot = Robot(team, number + 1, params.robot, robot_rngs[i])
+            robot = Robot(team, number + 1, params.robot, robot_rngs[i], self.motion, i)
             self.robots.append(robot)
             self._by_shape[robot.shape] = robot
+        self._controls = [(r.control._body, i * WIDTH) for i, r in enumerate(self.robots)]
+        """Per robot: its control body's Chipmunk handle and its row's offset in the state view."""
+        self._motions = np.zeros((2 * players_per_team, 6))
+        self._bodies = [(r, r.body._body, i * WIDTH) for i, r in enumerate(self.robots)]
+        """Per robot: the robot, its body's Chipmunk handle and its row's offset in the state view."""
         self.players_per_team = players_per_team
         self._events: list[CollisionEvent] = []
         self._now = 0.0
@@ -308,16 +332,41 @@ class World:
         self._ball_may_rest = True
         self.space.reindex_shapes_for_body(self.ball)
 
+    def take_motions(self) -> list[list[float]]:
+        """Every robot's planned and true motion since the last call, robot frame (m, m, rad):
+        ``[planned dx, dy, dtheta, true dx, dy, dtheta]`` per robot, in robot order; both restart
+        from zero (:meth:`Robot.take_motion` for all robots in one call)."""
+        out = self._motions
+        take_motions_nb(self.motion.array, out)
+        return out.tolist()  # type: ignore[no-any-return]
+
     # -- stepping --------------------------------------------------------------------------
     def step(self, now: float) -> list[CollisionEvent]:
-        """Advance the world by one physics step starting at time ``now`` (s)."""
+        """Advance the world by one physics step starting at time ``now`` (s).
+
+        The walking engines and heads of all robots advance in one compiled call
+        (:func:`~teamsim.walking.pre_step_nb`), which lists the control bodies whose velocity
+        changed; those are set in pymunk, the space steps, every body's pose is read back, and a
+        second compiled call (:func:`~teamsim.walking.post_step_nb`) accumulates the true
+        motion. Pending kicks are then tried robot by robot.
+        """
         self._now = now
         events: list[CollisionEvent] = []
         self._events = events
         dt = self.dt
-        robots = self.robots
-        for robot in robots:
-            robot.pre_step(now, dt)
+        motion = self.motion
+        view = motion.view
+        n_send = pre_step_nb(motion.array, now, dt, motion.sends)
+        if n_send:
+            controls = self._controls
+            sends = motion.send_view
+            for i in range(0, 2 * n_send, 2):
+                handle, o = controls[sends[i]]
+                bits = sends[i + 1]
+                if bits & SEND_VELOCITY:
+                    set_velocity(handle, (view[o + CX], view[o + CY]))
+                if bits & SEND_ANGULAR:
+                    set_angular_velocity(handle, view[o + CW])
         substeps = self.params.substeps
         sub = dt / substeps
         space = self.space
@@ -325,8 +374,17 @@ class World:
             if self._ball_integrator_c or self._ball_may_rest:
                 self._choose_ball_integrator()
             step_space(space, sub)
-        for robot in robots:
-            robot.post_step()
+        for robot, handle, o in self._bodies:
+            if robot.in_space:
+                v = get_position(handle)  # body.position and body.angle, read in C (see get_position)
+                x, y, th = v.x, v.y, get_angle(handle)
+                robot.body_pose = (x, y, th)
+                robot._pose = None
+                view[o + NX] = x
+                view[o + NY] = y
+                view[o + NTH] = th
+        post_step_nb(motion.array)
+        for robot in self.robots:
             # a busy robot cannot kick yet (try_kick would say no): the request waits, without a call
             if (
                 robot.kick_request is not None
