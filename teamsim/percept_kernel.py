@@ -347,14 +347,24 @@ def synthesize_nb(
         offsets[r, Kind.CIRCLE] = row
         n_circle = fidx[G.CIRCLE + 1] - fidx[G.CIRCLE]
         if n_circle > 0:
-            n_visible = 0
+            # enough of the circle's points in view (at least one and the share circle_min); the
+            # count stops as soon as the answer is known either way
+            need = prm[P.CIRCLE_MIN] * n_circle
             circ_max = prm[P.DET_CIRCLE + 2]
+            enough = False
+            n_visible, left = 0, n_circle
             for i in range(fidx[G.CIRCLE], fidx[G.CIRCLE + 1]):
+                left -= 1
                 if visible(m, ctx, occg, fmap[i, F.X], fmap[i, F.Y], 0.0, 0.0, circ_max, max_occ, -1)[0]:
                     n_visible += 1
+                    if n_visible >= need:
+                        enough = True
+                        break
+                elif n_visible + left < need or n_visible + left == 0:
+                    break
             draw = uniforms[cursor[1]]
             cursor[1] += 1
-            if n_visible > 0 and n_visible >= prm[P.CIRCLE_MIN] * n_circle:
+            if enough:
                 ccx, ccy = fconst[FC.CIRCLE_X], fconst[FC.CIRCLE_Y]
                 d = math.hypot(ccx - Cx, ccy - Cy)
                 if draw < rate(prm, P.DET_CIRCLE, d) * motion:

@@ -307,13 +307,25 @@ def visible(m, ctx, occg, px, py, pz, radius, max_range, max_occ, skip):  # prag
 
     Seen means in front, inside the image, within ``max_range`` and hidden at most ``max_occ``
     (a point, ``radius == 0``, must not be hidden at all). ``skip`` is the object's own robot
-    index (or -1).
+    index (or -1). :func:`look` written out, with the distance and the bearing (C library calls)
+    worked out only for a point inside the image: the ground distance is NaN for a point
+    outside it, and every caller ignores everything but ``seen`` for an object not seen.
     """
-    ok, u, v, d, b = look(m, ctx, px, py, pz)
-    if not ok or d > max_range:
+    dx, dy, dz = px - ctx[CTX.CX], py - ctx[CTX.CY], pz - ctx[CTX.HC]
+    q0 = m[0, 0] * dx + m[0, 1] * dy + m[0, 2] * dz
+    if q0 <= NEAR:
+        return False, np.nan, np.nan, np.nan, 1.0
+    q1 = m[1, 0] * dx + m[1, 1] * dy + m[1, 2] * dz
+    q2 = m[2, 0] * dx + m[2, 1] * dy + m[2, 2] * dz
+    u = ctx[CTX.PPX] - ctx[CTX.FX] * q1 / q0
+    v = ctx[CTX.PPY] - ctx[CTX.FY] * q2 / q0
+    if not (0.0 <= u < ctx[CTX.W] and 0.0 <= v < ctx[CTX.H]):
+        return False, u, v, np.nan, 1.0
+    d = math.hypot(dx, dy)
+    if d > max_range:
         return False, u, v, d, 1.0
     w = math.asin(min(1.0, radius / d)) if radius > 0.0 else 0.0
-    frac = occlusion(d, b, w, pz, ctx[CTX.HC], occg, skip)
+    frac = occlusion(d, math.atan2(dy, dx), w, pz, ctx[CTX.HC], occg, skip)
     if frac > max_occ or (radius <= 0.0 and frac > 0.0):
         return False, u, v, d, frac
     return True, u, v, d, frac
