@@ -84,7 +84,10 @@ def synthesize_nb(
     rot = np.empty((3, 3))
     pos = np.empty(3)
     m = np.empty((3, 3))
-    occg = np.zeros((n_obs, 5))  # per other robot, from the optical centre: distance, bearing, half-width, height, flag
+    # per other robot, from the optical centre: distance, bearing, half-width, height, flag, then
+    # (filled at the first line that meets the robot, flag in column 11) the cosines and sines of
+    # its right tangent, left tangent and bearing (shadow_interval)
+    occg = np.zeros((n_obs, 12))
     seen = np.empty(n_obs, dtype=np.int64)
     plo = np.empty(MAX_PIECES)
     phi = np.empty(MAX_PIECES)
@@ -157,7 +160,7 @@ def synthesize_nb(
         ctx[CTX.FX], ctx[CTX.FY], ctx[CTX.PPX], ctx[CTX.PPY], ctx[CTX.W], ctx[CTX.H] = fx, fy, cx, cy, W, H
         # occluders as seen from the optical centre
         for j in range(n_obs):
-            occg[j, 4] = 0.0
+            occg[j, 4] = occg[j, 11] = 0.0
             if j == r or occ[j, OC.PRESENT] < 0.5:
                 continue
             ox, oy = occ[j, OC.X] - Cx, occ[j, OC.Y] - Cy
@@ -294,7 +297,14 @@ def synthesize_nb(
             for j in range(n_obs):
                 if occg[j, 4] < 0.5 or npieces == 0:
                     continue
-                olo, ohi = shadow_interval(ax, ay, bx, by, occg[j, 0], occg[j, 1], occg[j, 2], occg[j, 3], hc)
+                og = occg[j]
+                if og[11] == 0.0:  # the robot's tangents, once per observer
+                    ob, ow = og[1], og[2]
+                    og[5], og[6] = math.cos(ob - ow), math.sin(ob - ow)
+                    og[7], og[8] = math.cos(ob + ow), math.sin(ob + ow)
+                    og[9], og[10] = math.cos(ob), math.sin(ob)
+                    og[11] = 1.0
+                olo, ohi = shadow_interval(ax, ay, bx, by, og[0], og[3], hc, og[5], og[6], og[7], og[8], og[9], og[10])
                 if ohi <= olo:
                     continue
                 nn = 0

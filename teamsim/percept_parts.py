@@ -343,12 +343,12 @@ def clip(g0, g1, lo, hi):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def shadow_interval(ax, ay, bx, by, od, ob, ow, oh, hc):  # pragma: no cover - compiled
-    """Parameters [lo, hi] of the ground segment a + t b (relative to the camera) hidden by a robot."""
+def shadow_interval(ax, ay, bx, by, od, oh, hc, c1, s1, c2, s2, cc, sc):  # pragma: no cover - compiled
+    """Parameters [lo, hi] of the ground segment a + t b (relative to the camera) hidden by a robot
+    at distance ``od`` and of height ``oh``, seen from a camera at height ``hc``: (c1, s1), (c2,
+    s2) and (cc, sc) are the cosines and sines of its bearing minus and plus its angular
+    half-width and of its bearing (the same for every line, so the caller computes them once)."""
     lo, hi = 0.0, 1.0
-    c1, s1 = math.cos(ob - ow), math.sin(ob - ow)
-    c2, s2 = math.cos(ob + ow), math.sin(ob + ow)
-    cc, sc = math.cos(ob), math.sin(ob)
     lo, hi = clip(c1 * ay - s1 * ax, c1 * by - s1 * bx, lo, hi)  # left of the right tangent
     lo, hi = clip(ax * s2 - ay * c2, bx * s2 - by * c2, lo, hi)  # right of the left tangent
     lo, hi = clip(ax * cc + ay * sc - od, bx * cc + by * sc, lo, hi)  # behind the robot
