@@ -55,9 +55,39 @@ from pymunk._chipmunk_cffi import lib as _chipmunk
 
 from cognition.geometry import wrap_angle
 from cognition.representations import HeadRequest, HeadState, KickRequest, WalkRequest
-from teamsim import walking as wk
 from teamsim.params import Range, Ranges, check_ranges, non_negative, positive
-from teamsim.walking import RobotStates
+from teamsim.walking import (
+    ANG_ACC,
+    BTH,
+    BUSY_UNTIL,
+    BX,
+    BY,
+    CX,
+    FALLEN_SINCE,
+    FALLEN_UNTIL,
+    GCAM,
+    GPITCH,
+    GSPEED,
+    GYAW,
+    HCAM,
+    HEAD_MOVED,
+    HPITCH,
+    HPR,
+    HYAW,
+    HYR,
+    IN_SPACE,
+    LIN_ACC,
+    MX,
+    PICKED,
+    PX,
+    RESTING,
+    TW,
+    TX,
+    TY,
+    VX,
+    WIDTH,
+    RobotStates,
+)
 
 get_position = _chipmunk.cpBodyGetPosition
 """pymunk's C getter of a body's position: ``get_position(body._body)`` is a C struct whose ``x``
@@ -200,17 +230,21 @@ class Robot:
         states = RobotStates(1) if states is None else states
         self._m = states.view
         """The motion state array, flat (a memoryview: single values read as plain floats)."""
-        self._o = row * wk.WIDTH
+        self._o = row * WIDTH
         """Offset of this robot's row in :attr:`_m` (columns: :mod:`teamsim.walking`)."""
         m, o = self._m, self._o
-        for c in range(wk.WIDTH):
+        for c in range(WIDTH):
             m[o + c] = 0.0
-        m[o + wk.FALLEN_UNTIL] = m[o + wk.FALLEN_SINCE] = -1.0
-        m[o + wk.LIN_ACC], m[o + wk.ANG_ACC] = params.max_linear_accel, params.max_angular_accel
+        m[o + FALLEN_UNTIL] = m[o + FALLEN_SINCE] = -1.0
+        m[o + LIN_ACC], m[o + ANG_ACC] = params.max_linear_accel, params.max_angular_accel
         self.in_space = False
         """In the physics space (a plain attribute, mirrored into the state row by :meth:`add_to`
         and :meth:`remove_from`, the only places that change it)."""
         self.walk_target = WalkRequest()
+        self._walk_limits = (params.max_backward, params.max_forward, params.max_sideways, params.max_turn)
+        """The speed limits of :meth:`_clipped_target` (m/s, m/s, m/s, rad/s), read once."""
+        self._head_limits = (params.head_yaw_limit, params.head_pitch_min, params.head_pitch_max, params.head_max_speed)
+        """The joint limits of :meth:`_head_goal` (rad, rad, rad, rad/s), read once."""
         self._head: HeadState | None = HeadState()
         """:attr:`head` as last packed (rebuilt after the joints moved)."""
         self.head_target = HeadRequest()
@@ -239,72 +273,72 @@ class Robot:
     @property
     def velocity(self) -> tuple[float, float, float]:
         """Executed walk speed (vx m/s, vy m/s, w rad/s; robot frame)."""
-        return self._triple(wk.VX)
+        return self._triple(VX)
 
     @velocity.setter
     def velocity(self, v: tuple[float, float, float] | list[float]) -> None:
-        self._set_triple(wk.VX, v)
+        self._set_triple(VX, v)
 
     @property
     def planned(self) -> tuple[float, float, float]:
         """The walking engine's own motion since the last :meth:`take_motion` (m, m, rad; robot frame)."""
-        return self._triple(wk.PX)
+        return self._triple(PX)
 
     @property
     def true_motion(self) -> tuple[float, float, float]:
         """The body's true motion since the last :meth:`take_motion` (m, m, rad; robot frame)."""
-        return self._triple(wk.MX)
+        return self._triple(MX)
 
     @property
     def fallen_until(self) -> float:
         """Time (s) when the robot stands again; -1 while it is not fallen."""
-        return self._m[self._o + wk.FALLEN_UNTIL]
+        return self._m[self._o + FALLEN_UNTIL]
 
     @fallen_until.setter
     def fallen_until(self, t: float) -> None:
-        self._m[self._o + wk.FALLEN_UNTIL] = float(t)
+        self._m[self._o + FALLEN_UNTIL] = float(t)
 
     @property
     def fallen_since(self) -> float:
         """Time (s) when the robot fell; -1 while it is not fallen."""
-        return self._m[self._o + wk.FALLEN_SINCE]
+        return self._m[self._o + FALLEN_SINCE]
 
     @fallen_since.setter
     def fallen_since(self, t: float) -> None:
-        self._m[self._o + wk.FALLEN_SINCE] = float(t)
+        self._m[self._o + FALLEN_SINCE] = float(t)
 
     @property
     def busy_until(self) -> float:
         """Time (s) when the kick motion in progress ends (walking waits until then)."""
-        return self._m[self._o + wk.BUSY_UNTIL]
+        return self._m[self._o + BUSY_UNTIL]
 
     @busy_until.setter
     def busy_until(self, t: float) -> None:
-        self._m[self._o + wk.BUSY_UNTIL] = float(t)
+        self._m[self._o + BUSY_UNTIL] = float(t)
 
     @property
     def picked_up(self) -> bool:
         """Both feet are off the ground (the referee carries the robot)."""
-        return self._m[self._o + wk.PICKED] != 0.0
+        return self._m[self._o + PICKED] != 0.0
 
     @picked_up.setter
     def picked_up(self, value: bool) -> None:
-        self._m[self._o + wk.PICKED] = 1.0 if value else 0.0
+        self._m[self._o + PICKED] = 1.0 if value else 0.0
 
     def _set_goal(self) -> None:
         """Write the clipped head target (:meth:`_head_goal`) and the requested camera into the state
         row; the head moves again."""
         m, o = self._m, self._o
-        m[o + wk.GYAW], m[o + wk.GPITCH], m[o + wk.GSPEED] = self._head_goal()
-        m[o + wk.GCAM] = 1.0 if self.head_target.camera == "lower" else 0.0
-        m[o + wk.RESTING] = 0.0
+        m[o + GYAW], m[o + GPITCH], m[o + GSPEED] = self._head_goal()
+        m[o + GCAM] = 1.0 if self.head_target.camera == "lower" else 0.0
+        m[o + RESTING] = 0.0
 
     def _store_body_pose(self, x: float, y: float, theta: float) -> None:
         """Set :attr:`body_pose` and its copy in the state row (the start pose of the next step)."""
         self.body_pose = (x, y, theta)
         self._pose = None
         m, o = self._m, self._o
-        m[o + wk.BX], m[o + wk.BY], m[o + wk.BTH] = x, y, theta
+        m[o + BX], m[o + BY], m[o + BTH] = x, y, theta
 
     # -- placement -------------------------------------------------------------------------
     def add_to(self, space: pymunk.Space) -> None:
@@ -312,14 +346,14 @@ class Robot:
         if not self.in_space:
             space.add(self.body, self.shape, self.control, self.pivot, self.gear)
             self.in_space = True
-            self._m[self._o + wk.IN_SPACE] = 1.0
+            self._m[self._o + IN_SPACE] = 1.0
 
     def remove_from(self, space: pymunk.Space) -> None:
         """Take the robot off the field (out of the physics space)."""
         if self.in_space:
             space.remove(self.body, self.shape, self.control, self.pivot, self.gear)
             self.in_space = False
-            self._m[self._o + wk.IN_SPACE] = 0.0
+            self._m[self._o + IN_SPACE] = 0.0
 
     def teleport(self, x: float, y: float, theta: float) -> None:
         """Move the robot without any motion being sensed (placement, kidnapping)."""
@@ -331,8 +365,8 @@ class Robot:
         self.control.angle = theta
         self.control.velocity = (0.0, 0.0)
         self.control.angular_velocity = 0.0
-        self._set_triple(wk.CX, (0.0, 0.0, 0.0))
-        self._set_triple(wk.VX, (0.0, 0.0, 0.0))
+        self._set_triple(CX, (0.0, 0.0, 0.0))
+        self._set_triple(VX, (0.0, 0.0, 0.0))
         self._read_body()
         if self.body.space is not None:
             self.body.space.reindex_shapes_for_body(self.body)
@@ -351,15 +385,15 @@ class Robot:
         """Measured head joint angles and rates (relative to the torso) after the last physics step."""
         head = self._head
         m, o = self._m, self._o
-        if head is None or m[o + wk.HEAD_MOVED] != 0.0:
+        if head is None or m[o + HEAD_MOVED] != 0.0:
             head = self._head = HeadState(
-                yaw=m[o + wk.HYAW],
-                pitch=m[o + wk.HPITCH],
-                yaw_rate=m[o + wk.HYR],
-                pitch_rate=m[o + wk.HPR],
-                camera="lower" if m[o + wk.HCAM] != 0.0 else "upper",
+                yaw=m[o + HYAW],
+                pitch=m[o + HPITCH],
+                yaw_rate=m[o + HYR],
+                pitch_rate=m[o + HPR],
+                camera="lower" if m[o + HCAM] != 0.0 else "upper",
             )
-            m[o + wk.HEAD_MOVED] = 0.0
+            m[o + HEAD_MOVED] = 0.0
         return head
 
     @property
@@ -367,8 +401,8 @@ class Robot:
         """The head's (yaw rad, pitch rad, yaw rate rad/s, pitch rate rad/s, camera read) now:
         :attr:`head` unpacked, without building it."""
         m, o = self._m, self._o
-        camera: Literal["upper", "lower"] = "lower" if m[o + wk.HCAM] != 0.0 else "upper"
-        return (m[o + wk.HYAW], m[o + wk.HPITCH], m[o + wk.HYR], m[o + wk.HPR], camera)
+        camera: Literal["upper", "lower"] = "lower" if m[o + HCAM] != 0.0 else "upper"
+        return (m[o + HYAW], m[o + HPITCH], m[o + HYR], m[o + HPR], camera)
 
     def _read_body(self) -> None:
         """Read the body's pose from pymunk into :attr:`body_pose` (:attr:`pose` follows on demand)."""
@@ -380,9 +414,9 @@ class Robot:
     def command(self, walk: WalkRequest, kick: KickRequest | None, head: HeadRequest) -> None:
         """Take a new motion request (called once per cognition frame)."""
         self.walk_target = walk
-        m, o = self._m, self._o
-        m[o + wk.TX], m[o + wk.TY], m[o + wk.TW] = self._clipped_target()  # floats (see there)
         self.head_target = head
+        m, o = self._m, self._o
+        m[o + TX], m[o + TY], m[o + TW] = self._clipped_target()  # floats (see there)
         self._set_goal()
         if kick is not None and self.kick_request is None and self.can_walk_at_all():
             self.kick_request = kick
@@ -402,39 +436,60 @@ class Robot:
             self.fallen_since = now
         self.fallen_until = max(self.fallen_until, now + duration)
         self.kick_request = None
-        self._set_triple(wk.VX, (0.0, 0.0, 0.0))
+        self._set_triple(VX, (0.0, 0.0, 0.0))
         return self.fallen_until
 
     def _clipped_target(self) -> tuple[float, float, float]:
         """The walk target clipped to the speed limits per axis, then scaled into the limits'
         ellipsoid (m/s, m/s, rad/s; robot frame)."""
-        p = self.params
+        max_backward, max_forward, max_sideways, max_turn = self._walk_limits
         w = self.walk_target
-        fwd = min(max(w.forward, -p.max_backward), p.max_forward)
-        left = min(max(w.left, -p.max_sideways), p.max_sideways)
-        turn = min(max(w.turn, -p.max_turn), p.max_turn)
+        # min(max(v, -limit), limit) per axis, written as the comparisons min and max make
+        fwd, left, turn = w.forward, w.left, w.turn
+        if fwd < -max_backward:
+            fwd = -max_backward
+        if fwd > max_forward:
+            fwd = max_forward
+        if left < -max_sideways:
+            left = -max_sideways
+        if left > max_sideways:
+            left = max_sideways
+        if turn < -max_turn:
+            turn = -max_turn
+        if turn > max_turn:
+            turn = max_turn
         norm = math.sqrt(
-            (fwd / (p.max_forward if fwd >= 0 else p.max_backward)) ** 2
-            + (left / p.max_sideways) ** 2
-            + (turn / p.max_turn) ** 2
+            (fwd / (max_forward if fwd >= 0 else max_backward)) ** 2
+            + (left / max_sideways) ** 2
+            + (turn / max_turn) ** 2
         )
         scale = 1.0 / norm if norm > 1.0 else 1.0
         return (fwd * scale, left * scale, turn * scale)  # floats, even for integer requests (scale is one)
 
     def take_motion(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
         """Return and reset (planned, true) motion since the last call, robot frame."""
-        m, o = self._m, self._o + wk.PX
+        m, o = self._m, self._o + PX
         out = m[o : o + 6].tolist()  # planned (PX, PY, PTH), then true (MX, MY, MTH)
         m[o : o + 6] = _ZEROS6
         return (tuple(out[:3]), tuple(out[3:]))
 
     def _head_goal(self) -> tuple[float, float, float]:
         """The head target's (yaw rad, pitch rad, speed rad/s) clipped to the joint limits."""
-        p = self.params
+        yaw_limit, pitch_min, pitch_max, max_speed = self._head_limits
         t = self.head_target
-        ty = min(max(t.yaw, -p.head_yaw_limit), p.head_yaw_limit)
-        tp = min(max(t.pitch, p.head_pitch_min), p.head_pitch_max)
-        return (float(ty), float(tp), float(min(t.speed, p.head_max_speed)))
+        # min(max(v, lower), upper), written as the comparisons min and max make
+        ty, tp, speed = t.yaw, t.pitch, t.speed
+        if ty < -yaw_limit:
+            ty = -yaw_limit
+        if ty > yaw_limit:
+            ty = yaw_limit
+        if tp < pitch_min:
+            tp = pitch_min
+        if tp > pitch_max:
+            tp = pitch_max
+        if speed > max_speed:
+            speed = max_speed
+        return (float(ty), float(tp), float(speed))
 
     def try_kick(self, now: float, ball: pymunk.Body, ball_radius: float) -> bool:
         """Execute a pending kick; returns True if the ball was struck."""
