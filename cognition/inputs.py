@@ -59,7 +59,8 @@ class InputCheck:
         o = frame.odometry
         dt = MIN_FRAME_SECONDS
         if self._last_time is not None and math.isfinite(frame.time):
-            dt = max(frame.time - self._last_time, MIN_FRAME_SECONDS)
+            dt = frame.time - self._last_time
+            dt = MIN_FRAME_SECONDS if dt < MIN_FRAME_SECONDS else dt  # max(dt, MIN_FRAME_SECONDS)
         if math.isfinite(frame.time):
             self._last_time = frame.time
         if not (math.isfinite(o.dx) and math.isfinite(o.dy) and math.isfinite(o.dtheta)):

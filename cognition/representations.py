@@ -256,7 +256,8 @@ class RobotPose:
     def position_std(self) -> float:
         """sqrt of the trace of the position covariance (m)."""
         c = self.covariance
-        return math.sqrt(max(0.0, float(c[0, 0] + c[1, 1])))  # IEEE sqrt: the same bits as np.sqrt
+        t = float(c[0, 0] + c[1, 1])
+        return math.sqrt(t if t > 0.0 else 0.0)  # max(0.0, t); IEEE sqrt: the same bits as np.sqrt
 
 
 BallLevel = Literal["valid", "suspicious", "invalid"]

@@ -203,18 +203,24 @@ class HeadControl:
     def look(self, x: float, y: float) -> HeadRequest:
         """Point the camera at the ground point (x, y) (robot frame, m)."""
         p = self.params
-        yaw = max(-p.max_yaw, min(p.max_yaw, math.atan2(y, x)))
+        # the clamps below are max(lo, min(hi, v)) written as the comparisons those builtins make
+        # (a tenth of their cost; the same results, NaN and signed zeros included)
+        yaw, lim = math.atan2(y, x), p.max_yaw
+        yaw = yaw if yaw < lim else lim
+        yaw = yaw if yaw > -lim else -lim
         d = math.hypot(x, y)
         if self.camera == "upper" and d < p.lower_below:
             self.camera = "lower"
         elif self.camera == "lower" and d > p.upper_above:
             self.camera = "upper"
+        far = 0.05 if d < 0.05 else d  # max(d, 0.05)
         if self.camera == "lower":
-            pitch = math.atan2(_LOWER_HEIGHT, max(d, 0.05)) - _LOWER_TILT
+            pitch = math.atan2(_LOWER_HEIGHT, far) - _LOWER_TILT
         else:
-            pitch = math.atan2(_UPPER_HEIGHT, max(d, 0.05)) - _UPPER_TILT
+            pitch = math.atan2(_UPPER_HEIGHT, far) - _UPPER_TILT
         self._yaw = yaw
-        pitch = max(p.pitch_min, min(p.pitch_max, pitch))
+        pitch = pitch if pitch < p.pitch_max else p.pitch_max
+        pitch = pitch if pitch > p.pitch_min else p.pitch_min
         return HeadRequest(yaw=yaw, pitch=pitch, speed=p.track_speed, camera=self.camera)
 
     # -- transitions -------------------------------------------------------------------------

@@ -460,10 +460,14 @@ class Skills:
         return self._walk(b, sx, sy, aim, avoid=False, final_radius=1.0, gain=1.5)
 
     def _clamp_x(self, x: float) -> float:
-        return max(-self._lim_x, min(self._lim_x, x))
+        lim = self._lim_x  # max(-lim, min(lim, x)) as comparisons
+        x = x if x < lim else lim
+        return x if x > -lim else -lim
 
     def _clamp_y(self, y: float) -> float:
-        return max(-self._lim_y, min(self._lim_y, y))
+        lim = self._lim_y  # max(-lim, min(lim, y)) as comparisons
+        y = y if y < lim else lim
+        return y if y > -lim else -lim
 
     def _obstacle_list(self, b: Beliefs) -> list[list[float]]:
         """The beliefs' obstacles (robot frame) as lists of two Python floats (cached per

@@ -99,7 +99,8 @@ class KalmanBallModel:
     def update(self, frame: SensorFrame, pose: RobotPose | None = None, team: Sequence[TeamMessage] = ()) -> BallModel:
         """One frame (robot frame results; ``pose`` only for field coordinates and team balls)."""
         time = frame.time
-        dt = 0.0 if self.time is None else max(0.0, time - self.time)
+        dt = 0.0 if self.time is None else time - self.time
+        dt = dt if dt > 0.0 else 0.0  # max(0.0, dt)
         self.time = time
         x, p = self.x, self.p
         had = x is not None and p is not None

@@ -135,7 +135,8 @@ class BallHypotheses:
         """One frame; ``pose`` converts team hypotheses; ``team``: messages received this frame."""
         p = self.params
         time = frame.time
-        dt = 0.0 if self.time is None else max(0.0, time - self.time)
+        dt = 0.0 if self.time is None else time - self.time
+        dt = dt if dt > 0.0 else 0.0  # max(0.0, dt)
         self.time = time
         percepts = frame.percepts
         seen = False
