@@ -30,11 +30,62 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar
 
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
 from cognition.field import Field
 from cognition.gamestate import Penalty
 from teamsim.params import Ranges, check_ranges, positive
 from teamsim.robot import get_position
+from teamsim.walking import BX, BY, FALLEN_SINCE, FALLEN_UNTIL, IN_SPACE, PENALIZED
 from teamsim.world import CollisionEvent, RobotId, World
+
+LEFT_FIELD, INACTIVE = 0, 1
+"""The fouls :func:`field_fouls_nb` reports (codes of its own, turned into :class:`Penalty` values)."""
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def field_fouls_nb(
+    s: NDArray[np.float64],
+    entered: NDArray[np.float64],
+    lines_x: float,
+    lines_y: float,
+    margin: float,
+    goal_x: float,
+    goal_y: float,
+    now: float,
+    inactive_seconds: float,
+    out: NDArray[np.int64],
+) -> int:  # pragma: no cover - compiled
+    """The leaving-the-field and inactive-player fouls of every robot on the field and not
+    penalised, from the walking state rows ``s`` (:mod:`teamsim.walking`; world frame, m and s).
+
+    ``entered`` (one entry per robot, 1.0 or 0.0) says whether the robot has been inside the
+    field lines since it was last placed; it is updated here. A robot that has entered and is
+    more than ``margin`` beyond the lines' outer edges (``lines_x``, ``lines_y``: half extents),
+    and not inside a goal (``|x| < goal_x``, ``|y| < goal_y``), left the field; otherwise one that
+    has lain since more than ``inactive_seconds`` before ``now`` is inactive. Writes (robot,
+    :data:`LEFT_FIELD` or :data:`INACTIVE`) rows into ``out`` in robot order and returns their
+    number. The field and goals are symmetric about both axes, so world coordinates serve either
+    team."""
+    k = 0
+    for r in range(s.shape[0]):
+        if s[r, IN_SPACE] == 0.0 or s[r, PENALIZED] != 0.0:
+            continue
+        ax, ay = abs(s[r, BX]), abs(s[r, BY])
+        if ax <= lines_x and ay <= lines_y:  # is_inside_field
+            entered[r] = 1.0
+        elif entered[r] != 0.0 and not (ax <= lines_x + margin and ay <= lines_y + margin):
+            in_goal = ay < goal_y and ax < goal_x
+            if not in_goal:
+                out[k, 0], out[k, 1] = r, LEFT_FIELD
+                k += 1
+                continue
+        if s[r, FALLEN_UNTIL] >= 0 and now - s[r, FALLEN_SINCE] >= inactive_seconds:  # fallen that long
+            out[k, 0], out[k, 1] = r, INACTIVE
+            k += 1
+    return k
 
 
 @dataclass(frozen=True)
@@ -77,7 +128,14 @@ class FoulDetector:
         self.world = world
         self.field = field_map
         self.params = params
-        self.entered_field: dict[RobotId, bool] = {(r.team, r.number): False for r in world.robots}
+        self._index = {(r.team, r.number): i for i, r in enumerate(world.robots)}
+        """Each robot's row in the world's walking state."""
+        self._entered = np.zeros(len(world.robots))
+        """Whether each robot has entered the field since it was last placed (1.0 or 0.0)."""
+        self._found = np.zeros((len(world.robots), 2), dtype=np.int64)
+        """Rows (robot, foul) of :func:`field_fouls_nb`."""
+        self._margin = world.params.robot.radius
+        """How far beyond the lines a robot may be before it has left the field (m: its radius)."""
         self._push: dict[tuple[RobotId, RobotId], _PushTrack] = {}
         self._stuck_anchor = (0.0, 0.0, 0.0)
         self._robots = [(r, (r.team, r.number)) for r in world.robots]
@@ -94,7 +152,12 @@ class FoulDetector:
 
     def placed(self, robot: RobotId, inside: bool) -> None:
         """A robot was put somewhere; ``inside``: whether that spot is inside the field."""
-        self.entered_field[robot] = inside
+        self._entered[self._index[robot]] = 1.0 if inside else 0.0
+
+    @property
+    def entered_field(self) -> dict[RobotId, bool]:
+        """Whether each robot has entered the field since it was last placed."""
+        return {key: bool(self._entered[i]) for key, i in self._index.items()}
 
     def reset_stuck(self, x: float, y: float, now: float) -> None:
         """The ball was (re)placed at (x, y) world frame: restart the stuck clock."""
@@ -108,25 +171,16 @@ class FoulDetector:
         same in the world frame and in either team frame.
         """
         fouls: list[Foul] = []
-        inactive_seconds = self.params.inactive_seconds
-        entered = self.entered_field
-        lines_x, lines_y = self._lines_x, self._lines_y
-        for r, key in self._robots:
-            if not r.in_space or r.penalized:
-                continue
-            x, y, _ = r.body_pose
-            ax, ay = abs(x), abs(y)
-            if ax <= lines_x and ay <= lines_y:  # is_inside_field
-                entered[key] = True
-            elif entered[key]:
-                margin = r.params.radius
-                if not (ax <= lines_x + margin and ay <= lines_y + margin):
-                    in_goal = ay < self._goal_y and ax < self._goal_x
-                    if not in_goal:
-                        fouls.append((key, Penalty.LEAVING_THE_FIELD))
-                        continue
-            if r.fallen_until >= 0 and now - r.fallen_since >= inactive_seconds:  # fallen that long
-                fouls.append((key, Penalty.INACTIVE_PLAYER))
+        found = self._found
+        k = field_fouls_nb(
+            self.world.motion.array, self._entered, self._lines_x, self._lines_y, self._margin, self._goal_x,
+            self._goal_y, now, self.params.inactive_seconds, found,
+        )  # fmt: skip
+        if k:
+            robots = self._robots
+            for r, code in found[:k].tolist():
+                penalty = Penalty.LEAVING_THE_FIELD if code == LEFT_FIELD else Penalty.INACTIVE_PLAYER
+                fouls.append((robots[r][1], penalty))
         if events:
             fouls.extend(self._pushing(now, events))
         if check_stuck:

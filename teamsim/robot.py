@@ -78,6 +78,7 @@ from teamsim.walking import (
     IN_SPACE,
     LIN_ACC,
     MX,
+    PENALIZED,
     PICKED,
     PX,
     RESTING,
@@ -315,6 +316,15 @@ class Robot:
     @busy_until.setter
     def busy_until(self, t: float) -> None:
         self._m[self._o + BUSY_UNTIL] = float(t)
+
+    @property
+    def penalized(self) -> bool:
+        """Penalised by the referee."""
+        return self._m[self._o + PENALIZED] != 0.0
+
+    @penalized.setter
+    def penalized(self, value: bool) -> None:
+        self._m[self._o + PENALIZED] = 1.0 if value else 0.0
 
     @property
     def picked_up(self) -> bool:

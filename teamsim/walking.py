@@ -56,7 +56,9 @@ LIN_ACC, ANG_ACC = 39, 40
 """Acceleration limits (m/s2, rad/s2) of the walking engine."""
 HEAD_MOVED = 41
 """1.0 after the head joints changed (the robot's packed :class:`~cognition.representations.HeadState` is stale)."""
-WIDTH = 42
+PENALIZED = 42
+"""1.0 while the referee has the robot penalised (read by the foul checks, :func:`teamsim.fouls.field_fouls_nb`)."""
+WIDTH = 43
 """Columns per robot."""
 
 SEND_VELOCITY, SEND_ANGULAR = 1, 2

@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+from teamsim import fouls
 from teamsim import walking as wk
 
 
@@ -169,3 +170,43 @@ def test_scene_rows_read_the_state() -> None:
     assert obs[:, 9].tolist() == [1.0, 0.0, 0.0]  # sees: on the field, standing, not picked up
     assert obs[:, 10].tolist() == [1.0, -1.0, -1.0] and obs[:, 11].tolist() == [0.0, 1.0, 1.0]
     assert occ[:, 3].tolist() == [0.58, 0.2, 0.58] and occ[:, 4].tolist() == [1.0, 1.0, 0.0]
+
+
+def _ref_field_fouls(s: np.ndarray, entered: list[float], lx: float, ly: float, margin: float, gx: float, gy: float,
+                     now: float, inactive: float) -> list[tuple[int, int]]:  # fmt: skip
+    """The foul detector's former Python loop over the robots (teamsim.fouls)."""
+    out = []
+    for r, row in enumerate(s.tolist()):
+        if not row[wk.IN_SPACE] or row[wk.PENALIZED]:
+            continue
+        ax, ay = abs(row[wk.BX]), abs(row[wk.BY])
+        if ax <= lx and ay <= ly:
+            entered[r] = 1.0
+        elif entered[r] and not (ax <= lx + margin and ay <= ly + margin) and not (ay < gy and ax < gx):
+            out.append((r, fouls.LEFT_FIELD))
+            continue
+        if row[wk.FALLEN_UNTIL] >= 0 and now - row[wk.FALLEN_SINCE] >= inactive:
+            out.append((r, fouls.INACTIVE))
+    return out
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_field_fouls_kernel_equals_the_python_reference(seed: int) -> None:
+    g = np.random.default_rng(seed)
+    n, now = 200, 50.0
+    s = np.zeros((n, wk.WIDTH))
+    s[:, wk.BX], s[:, wk.BY] = g.uniform(-5.8, 5.8, n), g.uniform(-3.8, 3.8, n)  # in, near and beyond the lines
+    s[:, wk.IN_SPACE] = g.random(n) < 0.9
+    s[:, wk.PENALIZED] = g.random(n) < 0.1
+    fallen = g.random(n) < 0.3
+    s[:, wk.FALLEN_UNTIL] = np.where(fallen, now + 1.0, -1.0)
+    s[:, wk.FALLEN_SINCE] = np.where(fallen, now - g.uniform(0.0, 40.0, n), -1.0)
+    entered = (g.random(n) < 0.7).astype(float)
+    ref_entered = entered.tolist()
+    out = np.zeros((n, 2), dtype=np.int64)
+    args = (4.55, 3.05, 0.14, 5.1, 0.8, now, 20.0)
+    k = fouls.field_fouls_nb(s, entered, *args[:5], args[5], args[6], out)
+    ref = _ref_field_fouls(s, ref_entered, *args)
+    assert [tuple(r) for r in out[:k].tolist()] == ref
+    assert entered.tolist() == ref_entered
+    assert {code for _, code in ref} == {fouls.LEFT_FIELD, fouls.INACTIVE}  # both fouls occur

@@ -57,7 +57,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -366,7 +366,7 @@ class PolicyBrain:
         else:
             m = sk.stand(b)
         head = self.head.request(b) if name != "scan" else self.head.scan(b)
-        return replace(m, head=head)
+        return MotionRequest(m.walk, m.kick, head)  # dataclasses.replace(m, head=head), without its field walk
 
     def _message(self, frame: SensorFrame) -> bytes | None:
         """Team messages in cognition mode (teammates' team ball), spreading the team's budget."""
