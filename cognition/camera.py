@@ -250,18 +250,23 @@ class CameraMatrix:
         """True if the robot-frame point (x, y, z) (m) is in front of the camera and projects
         inside the image: :meth:`project` then :meth:`in_image` for one point, without arrays
         (the world model asks this for single points every frame)."""
-        c0, c1, c2 = self.position.tolist()  # Python floats: one call, not one per entry
-        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = self.rotation.tolist()
+        consts = self.__dict__.get("_sees")
+        if consts is None:  # the matrix as Python floats, worked out at the first call (the arrays are not changed)
+            s = self.spec
+            w, h = s.width, s.height
+            cx, cy = w / 2.0, h / 2.0  # the spec's cx, cy, fx and fy, written out
+            consts = self.__dict__["_sees"] = (
+                *self.position.tolist(), *self.rotation.reshape(9).tolist(),
+                w, h, cx, cy, cx / math.tan(s.hfov / 2.0), cy / math.tan(s.vfov / 2.0),
+            )  # fmt: skip
+        c0, c1, c2, r00, r01, r02, r10, r11, r12, r20, r21, r22, w, h, cx, cy, fx, fy = consts
         dx, dy, dz = x - c0, y - c1, z - c2
         qx = dx * r00 + dy * r10 + dz * r20
         if not qx > 1e-9:
             return False
         qy = dx * r01 + dy * r11 + dz * r21
         qz = dx * r02 + dy * r12 + dz * r22
-        s = self.spec
-        w, h = s.width, s.height
-        cx, cy = w / 2.0, h / 2.0  # the spec's cx, cy, fx and fy, written out
-        u, v = cx - (cx / math.tan(s.hfov / 2.0)) * qy / qx, cy - (cy / math.tan(s.vfov / 2.0)) * qz / qx
+        u, v = cx - fx * qy / qx, cy - fy * qz / qx
         return 0.0 <= u < w and 0.0 <= v < h
 
     def in_image(self, uv: ArrayLike) -> NDArray[np.bool_]:
