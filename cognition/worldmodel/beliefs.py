@@ -248,9 +248,9 @@ class BeliefsModule:
         heard = board.heard or {}
         now = frame.time
         teammates = tuple(
-            Teammate(  # number, x, y, theta, age, role, fallen, penalized, ball_x, ball_y
-                m.player, m.x, m.y, m.theta, max(0.0, now - heard[m.player]), m.role, m.fallen, m.penalized,
-                m.ball_x if m.ball_valid else math.nan, m.ball_y if m.ball_valid else math.nan,
+            Teammate(  # number, x, y, theta, age (max(0, now - heard), as a comparison), role, fallen, penalized, ball
+                m.player, m.x, m.y, m.theta, a if (a := now - heard[m.player]) > 0.0 else 0.0, m.role, m.fallen,
+                m.penalized, m.ball_x if m.ball_valid else math.nan, m.ball_y if m.ball_valid else math.nan,
             )
             for m in sorted(board.teammates or (), key=_BY_PLAYER)
         )  # fmt: skip

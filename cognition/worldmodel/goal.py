@@ -178,4 +178,5 @@ class GoalModel:
         nx, ny = -(pry - ply), prx - plx  # perpendicular to the goal line
         if -(nx * cx + ny * cy) < 0.0:  # point it toward the robot's side of the goal line
             nx, ny = -nx, -ny
-        return GoalEstimate(cx, cy, (plx, ply), (prx, pry), math.atan2(ny, nx), min(lc, rc))
+        confidence = rc if rc < lc else lc  # min(lc, rc)
+        return GoalEstimate(cx, cy, (plx, ply), (prx, pry), math.atan2(ny, nx), confidence)

@@ -214,7 +214,9 @@ class BallHypotheses:
         for m in team:
             if not m.ball_valid or m.penalized or m.ball_age > max_age:
                 continue
-            conf = max(0.0, min(1.0, m.ball_confidence)) - decay * m.ball_age
+            conf = m.ball_confidence  # max(0.0, min(1.0, c)) as the comparisons those builtins make
+            conf = conf if conf < 1.0 else 1.0
+            conf = (conf if conf > 0.0 else 0.0) - decay * m.ball_age
             player = m.player
             for i, h in enumerate(hyps):  # at most one hypothesis per teammate: the latest, last
                 if h.sender == player and h.source == "team":
