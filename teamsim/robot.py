@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar, Literal
+from typing import ClassVar
 
 import numpy as np
 import pymunk
@@ -405,14 +405,6 @@ class Robot:
             )
             m[o + HEAD_MOVED] = 0.0
         return head
-
-    @property
-    def head_joints(self) -> tuple[float, float, float, float, Literal["upper", "lower"]]:
-        """The head's (yaw rad, pitch rad, yaw rate rad/s, pitch rate rad/s, camera read) now:
-        :attr:`head` unpacked, without building it."""
-        m, o = self._m, self._o
-        camera: Literal["upper", "lower"] = "lower" if m[o + HCAM] != 0.0 else "upper"
-        return (m[o + HYAW], m[o + HPITCH], m[o + HYR], m[o + HPR], camera)
 
     def _read_body(self) -> None:
         """Read the body's pose from pymunk into :attr:`body_pose` (:attr:`pose` follows on demand)."""
