@@ -250,24 +250,11 @@ class CameraMatrix:
         """True if the robot-frame point (x, y, z) (m) is in front of the camera and projects
         inside the image: :meth:`project` then :meth:`in_image` for one point, without arrays
         (the world model asks this for single points every frame)."""
-        consts = self.__dict__.get("_sees")
-        if consts is None:  # the matrix as Python floats, worked out at the first call (the arrays are not changed)
-            s = self.spec
-            w, h = s.width, s.height
-            cx, cy = w / 2.0, h / 2.0  # the spec's cx, cy, fx and fy, written out
-            consts = self.__dict__["_sees"] = (
-                *self.position.tolist(), *self.rotation.reshape(9).tolist(),
-                w, h, cx, cy, cx / math.tan(s.hfov / 2.0), cy / math.tan(s.vfov / 2.0),
-            )  # fmt: skip
-        c0, c1, c2, r00, r01, r02, r10, r11, r12, r20, r21, r22, w, h, cx, cy, fx, fy = consts
-        dx, dy, dz = x - c0, y - c1, z - c2
-        qx = dx * r00 + dy * r10 + dz * r20
-        if not qx > 1e-9:
-            return False
-        qy = dx * r01 + dy * r11 + dz * r21
-        qz = dx * r02 + dy * r12 + dz * r22
-        u, v = cx - fx * qy / qx, cy - fy * qz / qx
-        return 0.0 <= u < w and 0.0 <= v < h
+        view = self.__dict__.get("_view")
+        if view is None:  # the matrix as Python floats, worked out at the first call (the arrays are not changed)
+            rotation, position = self.rotation.reshape(9).tolist(), self.position.tolist()
+            view = self.__dict__["_view"] = camera_view(rotation, position, self.spec)
+        return view_sees(view, x, y, z)
 
     def in_image(self, uv: ArrayLike) -> NDArray[np.bool_]:
         """True for pixels inside the image (NaN pixels are outside)."""
@@ -323,6 +310,45 @@ class CameraMatrix:
 
 CAMERA_ROW_SIZE = 18
 """Length of :meth:`CameraMatrix.as_row`."""
+
+CameraView = tuple[float, ...]
+"""A camera matrix as 18 Python floats, for single-point work in Python (:func:`camera_view`):
+the optical centre (x, y, z; robot frame, m), the rotation row by row (camera -> robot), then
+the image width and height and the principal point and focal lengths (cx, cy, fx, fy; pixels)."""
+VIEW_X, VIEW_Y, VIEW_Z, VIEW_FX, VIEW_FY = 0, 1, 2, 16, 17
+"""Indices in a :data:`CameraView`: the optical centre and the focal lengths."""
+_SPEC_VIEWS: dict[int, tuple[CameraSpec, tuple[float, float, float, float, float, float]]] = {}
+"""The intrinsics part of a view per spec object (keyed by ``id``, the spec kept to check identity)."""
+
+
+def camera_view(rotation: list[float], position: list[float], spec: CameraSpec) -> CameraView:
+    """The :data:`CameraView` of the camera with ``rotation`` (9 floats, row by row, camera ->
+    robot), optical centre ``position`` (3 floats, robot frame, m) and intrinsics ``spec``. The
+    intrinsics are the spec's ``width``, ``height``, ``cx``, ``cy``, ``fx`` and ``fy``, worked out once
+    per spec object with the same operations as those properties."""
+    got = _SPEC_VIEWS.get(id(spec))
+    if got is None or got[0] is not spec:
+        w, h = spec.width, spec.height
+        cx, cy = w / 2.0, h / 2.0
+        if len(_SPEC_VIEWS) >= 64:  # specs are few; a program that makes many does not grow this
+            _SPEC_VIEWS.clear()
+        fx, fy = cx / math.tan(spec.hfov / 2.0), cy / math.tan(spec.vfov / 2.0)
+        got = _SPEC_VIEWS[id(spec)] = (spec, (w, h, cx, cy, fx, fy))
+    return (*position, *rotation, *got[1])
+
+
+def view_sees(view: CameraView, x: float, y: float, z: float) -> bool:
+    """:meth:`CameraMatrix.sees` of the camera ``view`` (:func:`camera_view`): whether the
+    robot-frame point (x, y, z) (m) lies in front of the camera and projects inside the image."""
+    c0, c1, c2, r00, r01, r02, r10, r11, r12, r20, r21, r22, w, h, cx, cy, fx, fy = view
+    dx, dy, dz = x - c0, y - c1, z - c2
+    qx = dx * r00 + dy * r10 + dz * r20
+    if not qx > 1e-9:
+        return False
+    qy = dx * r01 + dy * r11 + dz * r21
+    qz = dx * r02 + dy * r12 + dz * r22
+    u, v = cx - fx * qy / qx, cy - fy * qz / qx
+    return 0.0 <= u < w and 0.0 <= v < h
 
 
 @fast_init

@@ -67,7 +67,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.camera import CAMERA_ROW_SIZE, CameraMatrix, CameraSpec
+from cognition.camera import CAMERA_ROW_SIZE, CameraMatrix, CameraSpec, CameraView, camera_view
 from cognition.percept_checks import (
     _RULES,
     _SUBTYPE_MAX,
@@ -324,7 +324,7 @@ class Percepts:
     the sensor frame that delivers it. ``camera`` is the camera matrix of that image.
     """
 
-    __slots__ = ("_camera", "_camera_row", "_offsets", "_rows", "_spec", "time")
+    __slots__ = ("_camera", "_camera_row", "_offsets", "_rows", "_spec", "_view", "time")
 
     def __init__(
         self,
@@ -341,6 +341,7 @@ class Percepts:
         self._camera_row = camera_row
         self._spec = spec
         self._camera: CameraMatrix | None = None
+        self._view: CameraView | None = None
 
     @classmethod
     def empty(cls, time: float = 0.0) -> Percepts:
@@ -364,7 +365,7 @@ class Percepts:
             return cls(time, rows, offsets, camera_row, spec)
         self = cls.__new__(cls)
         self.time, self._rows, self._offsets, self._camera_row, self._spec = time, rows, offsets, camera_row, spec
-        self._camera = None
+        self._camera = self._view = None
         return self
 
     @classmethod
@@ -419,6 +420,21 @@ class Percepts:
                 raise ValueError(f"camera row must have {CAMERA_ROW_SIZE} entries, got {r.shape[0]}")
             self._camera = CameraMatrix(r[:9].reshape(3, 3).copy(), r[9:12].copy(), self._spec)
         return self._camera
+
+    @property
+    def camera_view(self) -> CameraView | None:
+        """The camera matrix of the image as Python floats (:func:`~cognition.camera.camera_view`,
+        the same numbers as :attr:`camera`'s arrays; ``None`` when no image was taken), without
+        building the matrix: the world model's single-point questions (where the camera's foot is,
+        whether a point is in view: :func:`~cognition.camera.view_sees`) ask for it every frame."""
+        view = self._view
+        if view is None and self._camera_row is not None and self._spec is not None:
+            r = self._camera_row
+            if r.shape[0] != CAMERA_ROW_SIZE:
+                raise ValueError(f"camera row must have {CAMERA_ROW_SIZE} entries, got {r.shape[0]}")
+            row = r.tolist()
+            view = self._view = camera_view(row[:9], row[9:12], self._spec)
+        return view
 
     @property
     def rows(self) -> NDArray[np.float64]:

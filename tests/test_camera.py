@@ -19,7 +19,9 @@ from cognition.camera import (
     CameraRig,
     CameraSpec,
     camera_pose_nb,
+    view_sees,
 )
+from cognition.percepts import N_COLS, N_KINDS, Percepts
 
 RIG = CameraRig()
 HEAD_ANGLES = [(yaw, pitch) for yaw in (-1.0, 0.0, 0.7) for pitch in (-0.3, 0.0, 0.3, 0.5)]
@@ -63,6 +65,37 @@ def test_sees_agrees_with_project_and_in_image(camera: str) -> None:
         np.testing.assert_array_equal(got, want)
         seen, total = seen + int(want.sum()), total + want.size
     assert 0.02 * total < seen < 0.5 * total, (seen, total)  # both answers were checked, often
+
+
+@pytest.mark.parametrize("camera", CAMERA_NAMES)
+def test_percepts_camera_view_is_the_camera_matrix_as_floats(camera: str) -> None:
+    """The view a percept set gives the world model without building its camera matrix holds the
+    matrix's own numbers (position, rotation row by row, the spec's width, height, cx, cy, fx,
+    fy), and :func:`view_sees` answers as the matrix's ``sees`` does."""
+    g = np.random.default_rng(5)
+    for _ in range(10):
+        cam = RIG.camera_matrix(camera, g.uniform(-2, 2), g.uniform(-0.6, 0.5), torso_roll=g.uniform(-0.1, 0.1))
+        percepts = Percepts.of_checked_rows(
+            1.0, np.zeros((0, N_COLS)), np.zeros(N_KINDS + 1, dtype=np.int64), cam.as_row(), cam.spec
+        )
+        view = percepts.camera_view
+        assert view is not None and all(type(v) in (float, int) for v in view)
+        s = cam.spec
+        assert view == (
+            *cam.position.tolist(),
+            *cam.rotation.reshape(9).tolist(),
+            s.width,
+            s.height,
+            s.cx,
+            s.cy,
+            s.fx,
+            s.fy,
+        )
+        matrix = percepts.camera
+        assert matrix is not None
+        pts = np.column_stack([g.uniform(-5, 5, 300), g.uniform(-5, 5, 300), g.uniform(-0.1, 0.6, 300)])
+        assert [view_sees(view, *p) for p in pts] == [matrix.sees(*p) for p in pts] == [cam.sees(*p) for p in pts]
+    assert Percepts.empty(1.0).camera_view is None
 
 
 @pytest.mark.parametrize("camera", CAMERA_NAMES)

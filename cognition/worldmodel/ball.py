@@ -36,6 +36,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from cognition.camera import VIEW_FX, VIEW_FY, VIEW_X, VIEW_Y, VIEW_Z
 from cognition.percepts import N_COLS, Kind, Percepts
 from cognition.representations import BallLevel, BallModel, RobotPose, SensorFrame
 from cognition.worldmodel.kalman_ball import (
@@ -155,19 +156,20 @@ class KalmanBallModel:
         """This frame's ball percept rows (none without percepts or a camera matrix), the camera's
         foot (x, y, m, robot frame), its height above the ball centre (m) and focal length (px).
 
-        The camera matrix is only asked for (and so only built) when there are ball rows."""
+        The camera view (:attr:`~cognition.percepts.Percepts.camera_view`) is only asked for when
+        there are ball rows."""
         if percepts is None:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
         table, offsets = percepts.table_and_offsets
         lo, hi = offsets[_BALL : _BALL + 2].tolist()
         if hi == lo:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
-        cam = percepts.camera
+        cam = percepts.camera_view
         if cam is None:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
-        spec = cam.spec
-        foot_x, foot_y, foot_z = cam.position.tolist()  # distances are from the camera's foot
-        return table[lo:hi], foot_x, foot_y, foot_z - self.ball_radius, 0.5 * (spec.fx + spec.fy)
+        # distances are from the camera's foot; the focal length is the mean of the spec's two
+        height, focal = cam[VIEW_Z] - self.ball_radius, 0.5 * (cam[VIEW_FX] + cam[VIEW_FY])
+        return table[lo:hi], cam[VIEW_X], cam[VIEW_Y], height, focal
 
     def _needs_team(self) -> bool:
         """Whether the own position variance (trace, m^2) exceeds ``team_threshold`` (or there is no state)."""

@@ -42,6 +42,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar
 
+from cognition.camera import view_sees
 from cognition.params import PROBABILITY, Ranges, check_ranges, non_negative, positive
 from cognition.percepts import Col, Kind, Percepts
 from cognition.records import fast_init
@@ -185,11 +186,11 @@ class BallHypotheses:
 
     def _negative(self, percepts: Percepts | None, pose: RobotPose | None, dt: float, cs: tuple[float, float]) -> None:
         """Hypotheses in view but not seen lose confidence fast; ``cs``: cos and sin of the
-        pose's heading (:func:`_heading`). The camera matrix is only asked for when there are
+        pose's heading (:func:`_heading`). The camera view (as floats) is only asked for when there are
         hypotheses."""
         if not self.hypotheses or percepts is None:
             return
-        cam = percepts.camera
+        cam = percepts.camera_view
         if cam is None:
             return
         view, loss = self.params.view_distance, self.params.negative_per_second * dt
@@ -204,7 +205,7 @@ class BallHypotheses:
                 rx, ry = c * dx + s * dy, -s * dx + c * dy
             if math.hypot(rx, ry) > view:
                 continue
-            if cam.sees(rx, ry, 0.05):
+            if view_sees(cam, rx, ry, 0.05):
                 h.confidence -= loss
 
     def _teammates(self, team: Sequence[TeamMessage], pose: RobotPose | None) -> None:
