@@ -324,7 +324,7 @@ class Percepts:
     the sensor frame that delivers it. ``camera`` is the camera matrix of that image.
     """
 
-    __slots__ = ("_camera", "_camera_row", "_offsets", "_rows", "_spec", "_view", "time")
+    __slots__ = ("_bounds", "_camera", "_camera_row", "_offsets", "_rows", "_spec", "_view", "time")
 
     def __init__(
         self,
@@ -342,6 +342,7 @@ class Percepts:
         self._spec = spec
         self._camera: CameraMatrix | None = None
         self._view: CameraView | None = None
+        self._bounds: list[int] | None = None
 
     @classmethod
     def empty(cls, time: float = 0.0) -> Percepts:
@@ -365,7 +366,7 @@ class Percepts:
             return cls(time, rows, offsets, camera_row, spec)
         self = cls.__new__(cls)
         self.time, self._rows, self._offsets, self._camera_row, self._spec = time, rows, offsets, camera_row, spec
-        self._camera = self._view = None
+        self._camera = self._view = self._bounds = None
         return self
 
     @classmethod
@@ -448,6 +449,15 @@ class Percepts:
         offsets of this image's kinds in it: kind k is ``table[offsets[k]:offsets[k + 1]]``.
         For compiled consumers that avoid per-kind views."""
         return self._rows, self._offsets
+
+    def span(self, kind: int) -> tuple[int, int]:
+        """Where the rows of one :class:`Kind` lie in the table of :attr:`table_and_offsets`:
+        ``table[lo:hi]``, as Python ints (the offsets are read into a list once per image, for
+        the world model's modules that each ask for one kind every frame)."""
+        bounds = self._bounds
+        if bounds is None:
+            bounds = self._bounds = self._offsets.tolist()
+        return bounds[kind], bounds[kind + 1]
 
     @property
     def kinds(self) -> NDArray[np.int64]:

@@ -182,6 +182,11 @@ def test_many_images_sharing_a_table_equal_one_by_one_construction() -> None:
         assert many[i].time == one.time and np.array_equal(many[i].rows, one.rows, equal_nan=True)
         assert np.array_equal(many[i].camera.position, one.camera.position)
         assert [many[i].count(k) for k in Kind] == [one.count(k) for k in Kind]
+        rows, offsets = many[i].table_and_offsets
+        for k in Kind:  # each kind's span in the shared table, as Python ints
+            lo, hi = many[i].span(k)
+            assert type(lo) is int and (lo, hi) == (int(offsets[k]), int(offsets[k + 1]))
+            assert np.array_equal(rows[lo:hi], one.table(k).rows, equal_nan=True)
 
 
 @pytest.mark.parametrize(

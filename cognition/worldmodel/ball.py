@@ -160,8 +160,7 @@ class KalmanBallModel:
         there are ball rows."""
         if percepts is None:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
-        table, offsets = percepts.table_and_offsets
-        lo, hi = offsets[_BALL : _BALL + 2].tolist()
+        lo, hi = percepts.span(_BALL)
         if hi == lo:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
         cam = percepts.camera_view
@@ -169,7 +168,7 @@ class KalmanBallModel:
             return _NO_ROWS, 0.0, 0.0, 0.0, 0.0
         # distances are from the camera's foot; the focal length is the mean of the spec's two
         height, focal = cam[VIEW_Z] - self.ball_radius, 0.5 * (cam[VIEW_FX] + cam[VIEW_FY])
-        return table[lo:hi], cam[VIEW_X], cam[VIEW_Y], height, focal
+        return percepts.table_and_offsets[0][lo:hi], cam[VIEW_X], cam[VIEW_Y], height, focal
 
     def _needs_team(self) -> bool:
         """Whether the own position variance (trace, m^2) exceeds ``team_threshold`` (or there is no state)."""

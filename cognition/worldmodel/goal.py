@@ -146,10 +146,9 @@ class GoalModel:
         """All post detections of one image."""
         if percepts is None:
             return
-        table, offsets = percepts.table_and_offsets
-        lo, hi = offsets[_POST : _POST + 2].tolist()
+        lo, hi = percepts.span(_POST)
         if hi != lo:
-            for x, y in table[lo:hi, _X : _Y + 1].tolist():
+            for x, y in percepts.table_and_offsets[0][lo:hi, _X : _Y + 1].tolist():
                 self.add(x, y)
 
     def estimate(self) -> GoalEstimate | None:

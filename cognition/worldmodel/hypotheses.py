@@ -141,17 +141,18 @@ class BallHypotheses:
         self.time = time
         percepts = frame.percepts
         seen = False
+        bx = by = 0.0
         if percepts is not None:
-            rows, offsets = percepts.table_and_offsets
-            lo, hi = offsets[_BALL : _BALL + 2].tolist()
+            lo, hi = percepts.span(_BALL)
             seen = hi > lo
+            if seen:
+                bx, by = percepts.table_and_offsets[0][lo, _X : _Y + 1].tolist()
         cs = _heading(pose)
         team_decay = p.team_decay_per_second * dt
         for h in self.hypotheses:
             if h.source == "team":
                 h.confidence -= team_decay
         if seen:  # the visible ball overrides: it is the one own hypothesis, and the answer
-            bx, by = rows[lo, _X : _Y + 1].tolist()
             self.hypotheses = [h for h in self.hypotheses if h.source == "team"]
             self.hypotheses.append(Hypothesis(bx, by, 1.0, "own"))
         else:
