@@ -484,19 +484,19 @@ class Match:
             mo = motions[i]  # planned (dx, dy, dtheta), then true, robot frame
             self.true_odometry[i] = TrueOdometry(mo[3], mo[4], mo[5])
             odo = self.odometry[i].report((mo[0], mo[1], mo[2]))
-            frame = SensorFrame(
-                time=now,
-                frame_index=frame_index,
-                team_number=team_numbers[robot.team],
-                player_number=robot.number,
-                odometry=odo,
-                head=robot.head,
-                game=game,
-                picked_up=robot.picked_up,
-                fallen=robot.fallen_until >= 0,  # is_fallen()
-                messages=tuple(inbox[robot.team].get(robot.number, ())),
-                percepts=percepts[i] if percepts is not None else None,  # type: ignore[arg-type]
-                image=images[i] if images is not None else None,  # type: ignore[arg-type]
+            frame = SensorFrame(  # by position: a call with twelve keywords costs twice as much
+                now,  # time
+                frame_index,
+                team_numbers[robot.team],  # team_number
+                robot.number,  # player_number
+                odo,  # odometry
+                robot.head,
+                game,
+                robot.picked_up,
+                robot.fallen_until >= 0,  # fallen: is_fallen()
+                tuple(inbox[robot.team].get(robot.number, ())),  # messages
+                percepts[i] if percepts is not None else None,  # type: ignore[arg-type]
+                images[i] if images is not None else None,  # type: ignore[arg-type]  # image
             )
             if percepts is not None:
                 self.percept_count += len(percepts[i])  # type: ignore[arg-type]

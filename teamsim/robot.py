@@ -396,12 +396,8 @@ class Robot:
         head = self._head
         m, o = self._m, self._o
         if head is None or m[o + HEAD_MOVED] != 0.0:
-            head = self._head = HeadState(
-                yaw=m[o + HYAW],
-                pitch=m[o + HPITCH],
-                yaw_rate=m[o + HYR],
-                pitch_rate=m[o + HPR],
-                camera="lower" if m[o + HCAM] != 0.0 else "upper",
+            head = self._head = HeadState(  # yaw, pitch, yaw_rate, pitch_rate, camera (by position: cheaper)
+                m[o + HYAW], m[o + HPITCH], m[o + HYR], m[o + HPR], "lower" if m[o + HCAM] != 0.0 else "upper"
             )
             m[o + HEAD_MOVED] = 0.0
         return head
