@@ -115,4 +115,4 @@ class OdometryModel:
         rx = dx * self.scale + n0 * p.trans_noise * abs(dx)
         ry = dy * self.scale + n1 * p.trans_noise * abs(dy)
         rth = dth + n2 * p.rot_noise * abs(dth) + n3 * p.sideways_rot_noise * abs(dy) + self.drift * dist
-        return OdometryReading(dx=rx, dy=ry, dtheta=rth)
+        return OdometryReading(rx, ry, rth)  # dx, dy, dtheta

@@ -159,7 +159,7 @@ class HeadSweep:
         frac = u - leg
         pos = frac if leg % 2 == 0 else 1.0 - frac
         yaw = self.side * p.scan_yaw * (1.0 - 2.0 * pos)
-        return HeadRequest(yaw=yaw, pitch=p.scan_pitch, speed=p.scan_speed, camera="upper")
+        return HeadRequest(yaw, p.scan_pitch, p.scan_speed, "upper")  # yaw, pitch, speed, camera
 
 
 class HeadControl:
@@ -176,6 +176,8 @@ class HeadControl:
         """The landmark sweep of the ``scan`` and ``search`` states."""
         self._yaw = 0.0
         """The latest requested yaw (rad): where the head points, roughly."""
+        self._ball: tuple[float, float] | None = None
+        """The ball (robot frame, m) the latest :meth:`_transition` found, if it looked for one."""
 
     def request(self, b: Beliefs) -> HeadRequest:
         """Decide the state on these beliefs and return the head request (robot frame)."""
@@ -189,7 +191,7 @@ class HeadControl:
         if state == "look_at":
             assert b.look_at is not None
             return self.look(*b.look_at)
-        ball = _ball_robot(b)
+        ball = self._ball if self._ball is not None else _ball_robot(b)  # found by _transition, if it looked
         assert ball is not None
         return self.look(*ball)
 
@@ -221,10 +223,11 @@ class HeadControl:
         self._yaw = yaw
         pitch = pitch if pitch < p.pitch_max else p.pitch_max
         pitch = pitch if pitch > p.pitch_min else p.pitch_min
-        return HeadRequest(yaw=yaw, pitch=pitch, speed=p.track_speed, camera=self.camera)
+        return HeadRequest(yaw, pitch, p.track_speed, self.camera)  # yaw, pitch, speed, camera
 
     # -- transitions -------------------------------------------------------------------------
     def _transition(self, b: Beliefs) -> HeadStateName:
+        self._ball = None
         if b.source == "truth":
             return "ball"
         p = self.params
@@ -239,7 +242,8 @@ class HeadControl:
             return "look_at"
         if self.sweep.routine_due(b.time, self.context.player_number):
             return "scan"
-        return "ball" if _ball_robot(b) is not None else "search"
+        ball = self._ball = _ball_robot(b)  # kept for :meth:`request`, which looks at it
+        return "ball" if ball is not None else "search"
 
     # -- the sweep ---------------------------------------------------------------------------
     def _sweep(self, now: float) -> HeadRequest:

@@ -202,7 +202,7 @@ class Skills:
     def go_to_kickoff(self, b: Beliefs, kicking: bool) -> MotionRequest:
         """READY: walk to the own kickoff position (``kicking``: the own team kicks off)."""
         target = kickoff_position(self.context.field, b.player_number, kicking)
-        return MotionRequest(walk=self.walk_to(b, target))
+        return MotionRequest(self.walk_to(b, target))
 
     # -- the ball ----------------------------------------------------------------------------
     def go_to_ball(self, b: Beliefs) -> MotionRequest:
@@ -210,7 +210,7 @@ class Skills:
         ball = self.ball(b)
         if ball is None:
             return self.search(b)
-        return MotionRequest(walk=self._approach(b, ball, self.goal_aim(b, ball)))
+        return MotionRequest(self._approach(b, ball, self.goal_aim(b, ball)))
 
     def kick_to_goal(self, b: Beliefs) -> MotionRequest:
         """Approach, align and kick toward the opponent goal (aim: :meth:`goal_aim`)."""
@@ -268,7 +268,7 @@ class Skills:
         length = math.hypot(vx, vy) or 1.0
         d = min(self.params.defend_distance, max(0.3, length - 0.5))
         x, y = gx + vx / length * d, vy / length * d
-        return MotionRequest(walk=self.walk_to(b, (x, y, math.atan2(by - y, bx - x))))
+        return MotionRequest(self.walk_to(b, (x, y, math.atan2(by - y, bx - x))))
 
     def keeper(self, b: Beliefs) -> MotionRequest:
         """Goalkeeper: stay between the ball and the goal inside the goal area; clear a close ball."""
@@ -276,7 +276,7 @@ class Skills:
         goal_x = -self._hl
         ball = self.ball(b)
         if ball is None:
-            return MotionRequest(walk=self.walk_to(b, (goal_x + 0.35, 0.0, 0.0)))
+            return MotionRequest(self.walk_to(b, (goal_x + 0.35, 0.0, 0.0)))
         bx, by = ball[0], ball[1]
         if bx < goal_x + f.dims.goal_area_length + 0.6 and abs(by) < f.dims.goal_area_width / 2 + 0.4:
             return self.kick_to_goal(b)
@@ -284,7 +284,7 @@ class Skills:
         ang = math.atan2(by, bx - goal_x)
         x = goal_x + 0.35 * math.cos(ang) + 0.1
         y = max(-half_goal + 0.1, min(half_goal - 0.1, 0.6 * math.sin(ang)))
-        return MotionRequest(walk=self.walk_to(b, (x, y, math.atan2(by - y, bx - x)), avoid=False))
+        return MotionRequest(self.walk_to(b, (x, y, math.atan2(by - y, bx - x)), avoid=False))
 
     def support(self, b: Beliefs, number: int) -> MotionRequest:
         """Hold the supporting spot of player ``number`` relative to the ball, clear of teammates."""
@@ -292,7 +292,7 @@ class Skills:
         if ball is None:
             return self.search(b)
         x, y, th = self.support_spot(b, ball, number)
-        return MotionRequest(walk=self.walk_to(b, (x, y, th)))
+        return MotionRequest(self.walk_to(b, (x, y, th)))
 
     def support_spot(self, b: Beliefs, ball: Ball, number: int) -> tuple[float, float, float]:
         """The supporting pose of player ``number`` (team frame), moved out of teammates' space."""
@@ -326,7 +326,7 @@ class Skills:
         tx, ty = rx + ux * (keep + 0.2), ry + uy * (keep + 0.2)
         fx, fy = b.to_field(tx, ty)
         th = b.pose.theta + math.atan2(-uy, -ux)
-        return MotionRequest(walk=self.walk_to(b, (fx, fy, th), avoid=False))
+        return MotionRequest(self.walk_to(b, (fx, fy, th), avoid=False))
 
     def clear_of_ball(self, b: Beliefs, target: tuple[float, float, float]) -> tuple[float, float, float]:
         """``target`` (team frame) moved out to ``keep_away`` + 0.2 m from the ball (if known)."""
@@ -435,7 +435,7 @@ class Skills:
         ):
             return MotionRequest(kick=KickRequest(direction=aim, strength=strength))
         approach = aim if heading is None else wrap_angle(heading - th)
-        return MotionRequest(walk=self._approach(b, ball, approach))
+        return MotionRequest(self._approach(b, ball, approach))
 
     def _approach(self, b: Beliefs, ball: Ball, aim: float) -> WalkRequest:
         """Walk to the line-up spot behind the ball for ``aim`` (rad, robot frame).
@@ -534,7 +534,7 @@ class Skills:
             if v > 0.0:
                 fwd, left = fwd - v * ux, left - v * uy
         fwd, left = self._stay_inside(b, fwd, left)
-        return WalkRequest(forward=fwd, left=left, turn=2.0 * err)
+        return WalkRequest(fwd, left, 2.0 * err)  # forward, left, turn
 
     def _stay_inside(self, b: Beliefs, fwd: float, left: float) -> tuple[float, float]:
         """Drop the part of a walk (robot frame, m/s) that leads further out once the robot is at

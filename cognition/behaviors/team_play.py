@@ -166,7 +166,7 @@ class ScriptedBrain:
 
     def finish(self) -> BrainOutput:
         """The motion request and team message of the frame."""
-        return BrainOutput(motion=self._motion, message=self._message)
+        return BrainOutput(self._motion, self._message)  # motion, message
 
     def _behave(self) -> None:
         assert self.provider is not None
