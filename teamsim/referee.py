@@ -85,6 +85,9 @@ from teamsim.placement import (
 from teamsim.robot import Robot, get_position
 from teamsim.world import CollisionEvent, RobotId, World
 
+_PLAYING = RobotInfo()
+"""The packet's entry of a player that is not penalised (a frozen record: one serves them all)."""
+
 
 def _ceil(seconds: float) -> int:
     """Whole seconds shown on a clock, robust to float accumulation (59.9999999 -> 60)."""
@@ -249,6 +252,7 @@ class Referee:
 
     def game_state(self) -> GameControlData:
         """The current RoboCupGameControlData v18 content (teams in team-index order)."""
+        now, ceil = self._now_for_packet, math.ceil
         key = (
             self.state,
             self.set_play,
@@ -257,7 +261,8 @@ class Referee:
             _ceil(self.secs_remaining),
             tuple(self.score),
             tuple(self._budget_left),
-            tuple((s.penalty, _ceil(s.penalized_until - self._now_for_packet)) for s in self.status.values()),
+            # (penalty, _ceil(seconds left)) of every robot, _ceil written out: asked every cognition frame
+            tuple([(s.penalty, ceil(s.penalized_until - now - 1e-6)) for s in self.status.values()]),
             self._secondary(),
         )
         if self._cached is not None and key == self._cache_key:
@@ -269,7 +274,7 @@ class Referee:
             for num in range(1, 21):
                 st = self.status.get((t, num))
                 if st is None or st.penalty == Penalty.NONE:
-                    players.append(RobotInfo())
+                    players.append(_PLAYING)
                 else:
                     left = max(0, _ceil(st.penalized_until - self._now_for_packet))
                     players.append(RobotInfo(int(st.penalty), left))
