@@ -192,3 +192,41 @@ def test_scripted_players_on_percepts_reach_the_ball() -> None:
     kicks = sum(1 for e in m.log.events if e.kind in ("kick", "goal"))
     moved = math.hypot(*m.world.ball.position) > 0.3 or kicks > 0
     assert moved
+
+
+def _free_spot_reference(obstacles: list[list[float]], tx: float, ty: float, space: float) -> tuple[float, float]:
+    """The personal-space rule as first written: math.hypot for every obstacle."""
+    for ox, oy in obstacles:
+        dx, dy = tx - ox, ty - oy
+        d = math.hypot(dx, dy)
+        if d >= space:
+            continue
+        if d < 1e-6:
+            dx, dy, d = -ox, -oy, max(1e-6, math.hypot(ox, oy))
+        tx, ty = ox + dx / d * space, oy + dy / d * space
+    return tx, ty
+
+
+def test_free_spot_skips_far_obstacles_without_changing_a_bit() -> None:
+    """The squared-distance shortcut of ``_free_spot`` gives the reference's target to the bit,
+    for random obstacles and targets, obstacles on the target, and distances at the boundary
+    (exactly ``space`` away, and one ulp either side)."""
+    from cognition.behaviors.skills import _free_spot
+
+    g = np.random.default_rng(11)
+    moved = 0
+    for _ in range(3000):
+        space = float(g.choice([0.3, 0.45, 0.6]))
+        obstacles = g.uniform(-1.5, 1.5, (int(g.integers(0, 12)), 2)).tolist()
+        tx, ty = g.uniform(-1.5, 1.5, 2).tolist()
+        if obstacles and g.random() < 0.3:  # a target on the boundary of an obstacle's space
+            ox, oy = obstacles[0]
+            a = g.uniform(-math.pi, math.pi)
+            r = float(np.nextafter(space, [0.0, space, 9.0][int(g.integers(0, 3))]))
+            tx, ty = ox + r * math.cos(a), oy + r * math.sin(a)
+        if obstacles and g.random() < 0.05:
+            tx, ty = obstacles[-1]
+        got, want = _free_spot(obstacles, tx, ty, space), _free_spot_reference(obstacles, tx, ty, space)
+        assert got == want, (obstacles, tx, ty, space)
+        moved += want != (tx, ty)
+    assert moved > 300  # the rule acted often

@@ -226,5 +226,5 @@ class KalmanBallModel:
         level: BallLevel = "valid" if sd < VALID_SIGMA else ("suspicious" if sd < SUSPICIOUS_SIGMA else "invalid")
         age = (self.time or 0.0) - self.last_seen
         p = p.copy()  # the state is updated in place; the output keeps this frame's covariance
-        p.flags.writeable = False
+        p.setflags(write=False)  # cheaper than through p.flags
         return BallModel(x0, x1, x2, x3, p, fx, fy, age, level, self.source)  # type: ignore[arg-type]
