@@ -175,7 +175,7 @@ class KalmanBallModel:
         p = self.p
         if p is None:
             return True
-        (p00, _), (_, p11) = p[:2, :2].tolist()
+        p00, p11 = p.item(0, 0), p.item(1, 1)  # Python floats
         return p00 + p11 > self.params.team_threshold
 
     def _team(self, pose: RobotPose, team: Sequence[TeamMessage]) -> None:

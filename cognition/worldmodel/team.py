@@ -133,7 +133,7 @@ def rotate_covariance(p: NDArray[np.float64], theta: float) -> tuple[float, floa
     """(xx, xy, yy) of the upper-left 2 x 2 block of ``p`` rotated by ``theta`` (rad): a
     robot-frame position covariance expressed in the team frame of a robot heading ``theta``."""
     c, s = math.cos(theta), math.sin(theta)
-    (a, b), (_, d) = p[:2, :2].tolist()
+    a, b, d = p.item(0, 0), p.item(0, 1), p.item(1, 1)  # Python floats, without a slice and a list
     return (
         c * c * a - 2 * c * s * b + s * s * d,
         c * s * (a - d) + (c * c - s * s) * b,
@@ -177,7 +177,8 @@ def team_ball(
     vx = vy = 0.0  # summed information vector
     who: list[int] = []
     if own is not None and own_pose is not None and own.level != "invalid" and math.isfinite(own.field_x):
-        (c00, _), (_, c11) = own_pose.covariance[:2, :2].tolist()
+        cov = own_pose.covariance
+        c00, c11 = cov.item(0, 0), cov.item(1, 1)  # Python floats
         # own ball covariance rotated into the team frame, plus the pose's position variance
         cxx, cxy, cyy = rotate_covariance(own.covariance, own_pose.theta)
         extra = 0.5 * (c00 + c11) + age_variance_per_second * own.age
