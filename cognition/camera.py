@@ -248,12 +248,10 @@ class CameraMatrix:
 
     def sees(self, x: float, y: float, z: float) -> bool:
         """True if the robot-frame point (x, y, z) (m) is in front of the camera and projects
-        inside the image: :meth:`project` then :meth:`in_image` for one point, without arrays
-        (the world model asks this for single points every frame)."""
-        view = self.__dict__.get("_view")
-        if view is None:  # the matrix as Python floats, worked out at the first call (the arrays are not changed)
-            rotation, position = self.rotation.reshape(9).tolist(), self.position.tolist()
-            view = self.__dict__["_view"] = camera_view(rotation, position, self.spec)
+        inside the image: :meth:`project` then :meth:`in_image` for one point, without arrays. (The
+        world model asks this every frame of the percepts' :attr:`~cognition.percepts.Percepts.camera_view`
+        through :func:`view_sees`, without building the matrix.)"""
+        view = camera_view(self.rotation.reshape(9).tolist(), self.position.tolist(), self.spec)
         return view_sees(view, x, y, z)
 
     def in_image(self, uv: ArrayLike) -> NDArray[np.bool_]:

@@ -128,14 +128,8 @@ class SensorFrame:
 
     @property
     def penalty(self) -> int:
-        """Own penalty code from the game state (0 when playing). Looked up at the first call and
-        kept in the instance dictionary (the record is frozen; the localization and the input check
-        both ask every frame)."""
-        got = self.__dict__.get("_penalty")
-        if got is None:
-            players = self.game.team(self.team_number).players
-            got = self.__dict__["_penalty"] = int(players[self.player_number - 1].penalty)
-        return got  # type: ignore[no-any-return]
+        """Own penalty code from the game state (0 when playing)."""
+        return int(self.game.team(self.team_number).players[self.player_number - 1].penalty)
 
 
 @fast_init

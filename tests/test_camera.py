@@ -95,6 +95,7 @@ def test_percepts_camera_view_is_the_camera_matrix_as_floats(camera: str) -> Non
         assert matrix is not None
         pts = np.column_stack([g.uniform(-5, 5, 300), g.uniform(-5, 5, 300), g.uniform(-0.1, 0.6, 300)])
         assert [view_sees(view, *p) for p in pts] == [matrix.sees(*p) for p in pts] == [cam.sees(*p) for p in pts]
+        assert set(matrix.__dict__) == {"rotation", "position", "spec"}  # nothing kept beside the fields
     assert Percepts.empty(1.0).camera_view is None
 
 
