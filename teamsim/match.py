@@ -535,7 +535,7 @@ class Match:
         poses = []
         for r in self.world.robots:
             x, y, th = world_to_team(sign, *r.pose)
-            poses.append(OraclePose(r.number, x, y, th, active=not r.penalized, fallen=r.fallen_until >= 0))
+            poses.append(OraclePose(r.number, x, y, th, not r.penalized, r.fallen_until >= 0))  # active, fallen
         b = self.world.ball
         bx, by = b.position
         bvx, bvy = b.velocity
@@ -548,14 +548,8 @@ class Match:
         n = self.config.players_per_team
         own = poses[team * n : (team + 1) * n]
         other = poses[(1 - team) * n : (2 - team) * n]
-        return OracleInput(
-            self_pose=own[number - 1],
-            teammates=tuple(p for p in own if p.number != number),
-            opponents=tuple(other),
-            ball_x=bx,
-            ball_y=by,
-            ball_vx=bvx,
-            ball_vy=bvy,
+        return OracleInput(  # by position: self_pose, teammates, opponents, ball x, y, vx, vy
+            own[number - 1], tuple([p for p in own if p.number != number]), tuple(other), bx, by, bvx, bvy
         )
 
     def summary(self) -> MatchSummary:

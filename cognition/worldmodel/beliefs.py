@@ -305,7 +305,8 @@ class TruthBeliefs:
             0.5 * (left[0] + right[0]), 0.5 * (left[1] + right[1]), left, right, wrap_angle(math.pi - mth), 1.0
         )
         mates = oracle.teammates
-        teammates = tuple(Teammate(m.number, m.x, m.y, m.theta, 0.0, Role.NONE, m.fallen, not m.active) for m in mates)
+        none = Role.NONE
+        teammates = tuple([Teammate(m.number, m.x, m.y, m.theta, 0.0, none, m.fallen, not m.active) for m in mates])
         others = [
             (c * (p.x - mx) + s * (p.y - my), -s * (p.x - mx) + c * (p.y - my))
             for group in (mates, oracle.opponents)
