@@ -87,6 +87,15 @@ from teamsim.world import CollisionEvent, RobotId, World
 
 _PLAYING = RobotInfo()
 """The packet's entry of a player that is not penalised (a frozen record: one serves them all)."""
+_S_INITIAL, _S_STANDBY, _S_READY, _S_SET, _S_PLAYING, _S_FINISHED = (
+    GameStateId.INITIAL, GameStateId.STANDBY, GameStateId.READY, GameStateId.SET, GameStateId.PLAYING,
+    GameStateId.FINISHED,
+)  # fmt: skip
+_NO_SET_PLAY = SetPlay.NONE
+_PENALISING_STATES = (GameStateId.READY, GameStateId.PLAYING)
+"""The enum members the per-step code compares with, as module names: in CPython 3.11 reading a
+member off its class (``GameStateId.PLAYING``) costs about 0.1 us, a module name a tenth of that,
+and the referee compares the state several times in every physics step (the same objects)."""
 
 
 def _ceil(seconds: float) -> int:
@@ -179,6 +188,11 @@ class Referee:
     def __init__(self, world: World, field_map: Field, params: RefereeParams, log: EventLog):
         self.world = world
         self.field = field_map
+        d = field_map.dims
+        self._goal_line_x = field_map.half_length + d.line_width / 2
+        self._touch_line_y = field_map.half_width + d.line_width / 2
+        self._goal_half_width = d.goal_inner_width / 2
+        """Where the ball is out (m, world frame, the ball's edge past the lines' outer edges), worked out once."""
         self.params = params
         self.log = log
         self.n = world.players_per_team
@@ -305,13 +319,13 @@ class Referee:
 
     def _secondary(self) -> int:
         now = self._now_for_packet
-        if self.state == GameStateId.READY:
+        if self.state == _S_READY:
             return max(0, _ceil(self.state_since + self.params.ready_seconds - now))
-        if self.state == GameStateId.SET:
+        if self.state == _S_SET:
             return max(0, _ceil(self.state_since + self.params.set_seconds - now))
-        if self.state == GameStateId.PLAYING and self.set_play != SetPlay.NONE:
+        if self.state == _S_PLAYING and self.set_play != _NO_SET_PLAY:
             return max(0, _ceil(self.set_play_until - now))
-        if self.state == GameStateId.PLAYING and now < self._kickoff_until:
+        if self.state == _S_PLAYING and now < self._kickoff_until:
             return max(0, _ceil(self._kickoff_until - now))
         return 0
 
@@ -381,32 +395,32 @@ class Referee:
         for ev in events:
             if ev.kind in ("robot_ball", "robot_kick"):
                 self.last_touch_team = ev.a[0]
-                if self.set_play != SetPlay.NONE and ev.a[0] == self.kicking_team:
+                if self.set_play != _NO_SET_PLAY and ev.a[0] == self.kicking_team:
                     self._end_set_play(now)
         if self.finished:
             return
         p = self.params
         s = self.state
-        if s == GameStateId.INITIAL and now - self.state_since >= p.initial_seconds:
+        if s == _S_INITIAL and now - self.state_since >= p.initial_seconds:
             if p.standby_seconds > 0:
                 self._enter(GameStateId.STANDBY, now)
             else:
                 self._start_ready(now)
-        elif s == GameStateId.STANDBY and now - self.state_since >= p.standby_seconds:
+        elif s == _S_STANDBY and now - self.state_since >= p.standby_seconds:
             self._start_ready(now)
-        elif s == GameStateId.READY:
+        elif s == _S_READY:
             self._update_ready(now)
-        elif s == GameStateId.SET and now - self.state_since >= p.set_seconds:
+        elif s == _S_SET and now - self.state_since >= p.set_seconds:
             self._kickoff(now)
-        elif s == GameStateId.PLAYING:
+        elif s == _S_PLAYING:
             self.secs_remaining = max(0.0, self.secs_remaining - dt)
-            if self.set_play != SetPlay.NONE and now >= self.set_play_until:
+            if self.set_play != _NO_SET_PLAY and now >= self.set_play_until:
                 self._end_set_play(now)
             if not self._check_goal_and_out(now) and self.secs_remaining <= 0.0:
                 self._end_half(now)
-        elif s == GameStateId.FINISHED and now - self.state_since >= p.halftime_seconds:
+        elif s == _S_FINISHED and now - self.state_since >= p.halftime_seconds:
             self._start_second_half(now)
-        if self.state in (GameStateId.READY, GameStateId.PLAYING):
+        if self.state in _PENALISING_STATES:
             self._auto_penalties(now, events)
         self._update_penalty_timers(now)
 
@@ -477,14 +491,13 @@ class Referee:
         bx, by = b.x, b.y
         r = self.world.ball_radius
         f = self.field
-        lw = f.dims.line_width / 2
-        beyond_goal_line = abs(bx) - r > f.half_length + lw
-        if beyond_goal_line and abs(by) < f.dims.goal_inner_width / 2:
+        beyond_goal_line = abs(bx) - r > self._goal_line_x
+        if beyond_goal_line and abs(by) < self._goal_half_width:
             world_sign = 1.0 if bx > 0 else -1.0
             scorer = 0 if self.sign(0) == world_sign else 1
             self._goal(now, scorer)
             return True
-        if abs(by) - r > f.half_width + lw:
+        if abs(by) - r > self._touch_line_y:
             taker = 1 - self.last_touch_team if self.last_touch_team is not None else 0
             x = min(max(bx, -f.half_length), f.half_length)
             self._start_set_play(now, SetPlay.KICK_IN, taker, x, math.copysign(f.half_width, by))
@@ -559,7 +572,7 @@ class Referee:
 
     # -- automatic penalties ---------------------------------------------------------------
     def _auto_penalties(self, now: float, events: Sequence[CollisionEvent]) -> None:
-        check_stuck = self.state == GameStateId.PLAYING
+        check_stuck = self.state == _S_PLAYING
         for (team, number), code in self.fouls.detect(now, events, check_stuck):
             self._foul(team, number, code, now)
 
