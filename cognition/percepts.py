@@ -246,11 +246,10 @@ class Percepts:
     @property
     def camera(self) -> CameraMatrix | None:
         """The camera matrix of the image (``None`` when no image was taken)."""
-        if self._camera is None and self._camera_row is not None and self._spec is not None:
-            r = self._camera_row
-            if r.shape[0] != CAMERA_ROW_SIZE:
-                raise ValueError(f"camera row must have {CAMERA_ROW_SIZE} entries, got {r.shape[0]}")
-            self._camera = CameraMatrix(r[:9].reshape(3, 3).copy(), r[9:12].copy(), self._spec)
+        if self._camera is None:
+            r = self._checked_camera_row()
+            if r is not None:
+                self._camera = CameraMatrix(r[:9].reshape(3, 3).copy(), r[9:12].copy(), self._spec)  # type: ignore[arg-type]
         return self._camera
 
     @property
@@ -260,13 +259,22 @@ class Percepts:
         building the matrix: the world model's single-point questions (where the camera's foot is,
         whether a point is in view: :func:`~cognition.camera.view_sees`) ask for it every frame."""
         view = self._view
-        if view is None and self._camera_row is not None and self._spec is not None:
-            r = self._camera_row
-            if r.shape[0] != CAMERA_ROW_SIZE:
-                raise ValueError(f"camera row must have {CAMERA_ROW_SIZE} entries, got {r.shape[0]}")
-            row = r.tolist()
-            view = self._view = camera_view(row[:9], row[9:12], self._spec)
+        if view is None:
+            r = self._checked_camera_row()
+            if r is not None:
+                row = r.tolist()
+                view = self._view = camera_view(row[:9], row[9:12], self._spec)  # type: ignore[arg-type]
         return view
+
+    def _checked_camera_row(self) -> NDArray[np.float64] | None:
+        """The camera row of the image (``None`` when no image was taken), for :attr:`camera` and
+        :attr:`camera_view`."""
+        r = self._camera_row
+        if r is None or self._spec is None:
+            return None
+        if r.shape[0] != CAMERA_ROW_SIZE:
+            raise ValueError(f"camera row must have {CAMERA_ROW_SIZE} entries, got {r.shape[0]}")
+        return r
 
     @property
     def rows(self) -> NDArray[np.float64]:
