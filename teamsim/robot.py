@@ -87,6 +87,7 @@ from teamsim.walking import (
     TY,
     VX,
     WIDTH,
+    WTH,
     RobotStates,
 )
 
@@ -252,15 +253,6 @@ class Robot:
         self.kick_request: KickRequest | None = None
         self.penalized = False
         self._set_goal()
-        self.body_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
-        """World pose as the physics body holds it (x m, y m, theta rad, not wrapped); read-only for
-        everyone else. Read from pymunk after every physics step and set by :meth:`teleport`:
-        nothing else moves the body, so reading it once per step serves the walking engine,
-        :attr:`pose` and the referee's many looks (a plain attribute: they read it in every step;
-        the state row holds a copy for the compiled walking engine)."""
-        self._pose: tuple[float, float, float] | None = (0.0, 0.0, 0.0)
-        """``body_pose`` with the angle wrapped (:attr:`pose`); ``None`` until first asked for after
-        the body moved (the walking engine and the foul checks need only ``body_pose``)."""
 
     # -- the state row -----------------------------------------------------------------------
     def _triple(self, c: int) -> tuple[float, float, float]:
@@ -344,11 +336,18 @@ class Robot:
         m[o + RESTING] = 0.0
 
     def _store_body_pose(self, x: float, y: float, theta: float) -> None:
-        """Set :attr:`body_pose` and its copy in the state row (the start pose of the next step)."""
-        self.body_pose = (x, y, theta)
-        self._pose = None
+        """Set :attr:`body_pose` (the start pose of the next step) and :attr:`pose` in the state row."""
         m, o = self._m, self._o
         m[o + BX], m[o + BY], m[o + BTH] = x, y, theta
+        m[o + WTH] = wrap_angle(theta)
+
+    @property
+    def body_pose(self) -> tuple[float, float, float]:
+        """World pose as the physics body holds it (x m, y m, theta rad, not wrapped), from the state
+        row: read from pymunk after every physics step (:meth:`teamsim.world.World.step`) and set by
+        :meth:`teleport`; nothing else moves the body."""
+        m, o = self._m, self._o
+        return (m[o + BX], m[o + BY], m[o + BTH])
 
     # -- placement -------------------------------------------------------------------------
     def add_to(self, space: pymunk.Space) -> None:
@@ -383,12 +382,10 @@ class Robot:
 
     @property
     def pose(self) -> tuple[float, float, float]:
-        """World pose (x m, y m, theta rad wrapped)."""
-        pose = self._pose
-        if pose is None:
-            x, y, th = self.body_pose
-            pose = self._pose = (x, y, wrap_angle(th))
-        return pose
+        """World pose (x m, y m, theta rad wrapped to (-pi, pi]): :attr:`body_pose` with the angle
+        the walking engine wraps when it stores the pose (:func:`teamsim.walking.wrap_angle_nb`)."""
+        m, o = self._m, self._o
+        return (m[o + BX], m[o + BY], m[o + WTH])
 
     @property
     def head(self) -> HeadState:
@@ -403,7 +400,7 @@ class Robot:
         return head
 
     def _read_body(self) -> None:
-        """Read the body's pose from pymunk into :attr:`body_pose` (:attr:`pose` follows on demand)."""
+        """Read the body's pose from pymunk into :attr:`body_pose` and :attr:`pose`."""
         handle = self.body._body
         v = get_position(handle)
         self._store_body_pose(v.x, v.y, get_angle(handle))

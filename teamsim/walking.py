@@ -41,7 +41,7 @@ MX, MY, MTH = 12, 13, 14
 BX, BY, BTH = 15, 16, 17
 """Body pose at the start of the step (world frame, angle not wrapped)."""
 NX, NY, NTH = 18, 19, 20
-"""Body pose read from pymunk after the step (the world writes it; :func:`post_step_nb` moves it to ``BX``..)."""
+"""Body pose read from pymunk after the step (:func:`post_step_nb` writes it, then moves it to ``BX``..)."""
 HYAW, HPITCH, HYR, HPR, HCAM = 21, 22, 23, 24, 25
 """Head joints: yaw, pitch (rad), their rates (rad/s), camera read (0 upper, 1 lower)."""
 GYAW, GPITCH, GSPEED, GCAM = 26, 27, 28, 29
@@ -58,7 +58,9 @@ HEAD_MOVED = 41
 """1.0 after the head joints changed (the robot's packed :class:`~cognition.representations.HeadState` is stale)."""
 PENALIZED = 42
 """1.0 while the referee has the robot penalised (read by the foul checks, :func:`teamsim.fouls.field_fouls_nb`)."""
-WIDTH = 43
+WTH = 43
+"""``BTH`` wrapped to (-pi, pi] (:attr:`teamsim.robot.Robot.pose`), written with it."""
+WIDTH = 44
 """Columns per robot."""
 
 SEND_VELOCITY, SEND_ANGULAR = 1, 2
@@ -189,11 +191,26 @@ def pre_step_nb(
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def post_step_nb(s: NDArray[np.float64]) -> None:  # pragma: no cover - compiled
-    """Accumulate every robot's true body motion over the step just simulated: from the pose at
-    its start (``BX``..) to the pose the world read from pymunk (``NX``..), which becomes the new
-    start pose."""
-    for r in range(s.shape[0]):
+def post_step_nb(
+    s: NDArray[np.float64], poses: NDArray[np.float64], ids: NDArray[np.uint64], n: int, body_ids: NDArray[np.uint64]
+) -> None:  # pragma: no cover - compiled
+    """Take the body poses read from pymunk and accumulate every robot's true body motion over
+    the step just simulated.
+
+    ``poses`` holds (x, y, angle) of the first ``n`` bodies of the space and ``ids`` their body
+    ids, in the order Chipmunk lists them (:class:`teamsim.world.BodyPoses`); row ``r``'s body
+    has the id ``body_ids[r]``. Its pose goes to ``NX``..; bodies that are no robot's (the ball,
+    the control bodies) are skipped. The true motion runs from the pose at the start (``BX``..)
+    to that new pose, which becomes the start pose (and ``WTH`` its wrapped angle).
+    """
+    rows = s.shape[0]
+    for k in range(n):
+        bid = ids[k]
+        for r in range(rows):
+            if body_ids[r] == bid:
+                s[r, NX], s[r, NY], s[r, NTH] = poses[3 * k], poses[3 * k + 1], poses[3 * k + 2]
+                break
+    for r in range(rows):
         if s[r, IN_SPACE] == 0.0:
             continue
         x0, y0, th0 = s[r, BX], s[r, BY], s[r, BTH]
@@ -201,6 +218,7 @@ def post_step_nb(s: NDArray[np.float64]) -> None:  # pragma: no cover - compiled
         s[r, BX], s[r, BY], s[r, BTH] = x1, y1, th1
         if x1 == x0 and y1 == y0 and th1 == th0:
             continue  # adding zero motion leaves the true motion as it is (see pre_step_nb)
+        s[r, WTH] = wrap_angle_nb(th1)
         if s[r, HAS_ROT] != 0.0:
             c, sn = s[r, ROT_C], s[r, ROT_S]
         else:
@@ -211,6 +229,16 @@ def post_step_nb(s: NDArray[np.float64]) -> None:  # pragma: no cover - compiled
         ax, ay, ath = s[r, MX], s[r, MY], s[r, MTH]
         ac, as_ = math.cos(ath), math.sin(ath)
         s[r, MX], s[r, MY], s[r, MTH] = ax + ac * lx - as_ * ly, ay + as_ * lx + ac * ly, ath + (th1 - th0)
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def wrap_angle_nb(a: float) -> float:  # pragma: no cover - compiled
+    """:func:`cognition.geometry.wrap_angle` compiled, operation for operation (``fmod`` is exact,
+    the rest are the same IEEE operations), so both give the same bits: ``a`` (rad) in (-pi, pi]."""
+    a = np.fmod(a + math.pi, 2.0 * math.pi)
+    if a <= 0.0:
+        a += 2.0 * math.pi
+    return a - math.pi
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)

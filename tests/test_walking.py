@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+from cognition.geometry import wrap_angle
 from teamsim import fouls
 from teamsim import walking as wk
 
@@ -78,6 +79,7 @@ def _ref_post(row: list[float]) -> None:
     row[wk.BX], row[wk.BY], row[wk.BTH] = x1, y1, th1
     if (x1, y1, th1) == (x0, y0, th0):
         return
+    row[wk.WTH] = wrap_angle(th1)
     c, s = (row[wk.ROT_C], row[wk.ROT_S]) if row[wk.HAS_ROT] else (math.cos(th0), math.sin(th0))
     lx, ly = c * (x1 - x0) + s * (y1 - y0), -s * (x1 - x0) + c * (y1 - y0)
     ax, ay, ath = row[wk.MX], row[wk.MY], row[wk.MTH]
@@ -125,16 +127,24 @@ def test_kernels_equal_the_python_reference_bit_for_bit(seed: int) -> None:
     s = _random_states(g, n, now)
     ref = [list(map(float, row)) for row in s]
     sends = np.zeros((n, 2), dtype=np.int64)
+    body_ids = (1000 + g.permutation(n)).astype(np.uint64)
     for step in range(3):  # three steps: the second and third start from what the first left
         t = now + step * dt
         n_send = wk.pre_step_nb(s, t, dt, sends)
         bits = [_ref_pre(row, t, dt) for row in ref]
         assert [tuple(r) for r in sends[:n_send].tolist()] == [(i, b) for i, b in enumerate(bits) if b]
+        # what pymunk lists: the bodies in the space, in its order, with bodies no robot owns
         moved = g.normal(0.0, 0.01, (n, 3)) * (g.random((n, 1)) < 0.8)
-        s[:, wk.NX : wk.NTH + 1] = s[:, wk.BX : wk.BTH + 1] + moved
-        for row, new in zip(ref, s[:, wk.NX : wk.NTH + 1].tolist(), strict=True):
-            row[wk.NX], row[wk.NY], row[wk.NTH] = new
-        wk.post_step_nb(s)
+        moved[:, 2] += g.choice([0.0, 7.0, -7.0], n)  # angles past pi, to be wrapped
+        new = s[:, wk.BX : wk.BTH + 1] + moved
+        listed = [r for r in range(n) if s[r, wk.IN_SPACE] != 0.0]
+        ids = np.concatenate([body_ids[listed], [11, 12, 13]]).astype(np.uint64)
+        poses = np.concatenate([new[listed], g.normal(0.0, 3.0, (3, 3))])
+        order = g.permutation(len(ids))
+        flat = np.concatenate([poses[order].reshape(-1), np.full(6, np.nan)])  # room past the count
+        wk.post_step_nb(s, flat, np.concatenate([ids[order], [0, 0]]).astype(np.uint64), len(ids), body_ids)
+        for r in listed:
+            ref[r][wk.NX], ref[r][wk.NY], ref[r][wk.NTH] = new[r].tolist()
         for row in ref:
             _ref_post(row)
         assert s.tobytes() == np.array(ref).tobytes(), f"step {step}: rows differ"

@@ -283,3 +283,68 @@ def test_step_space_carries_out_what_a_handler_asks_for_during_the_step() -> Non
         for _ in range(200):
             stepper(space, 0.005)
         assert done == [7] and len(space.bodies) == len(bodies) - 1, stepper
+
+
+def test_body_poses_reads_every_body_by_id_as_it_leaves_rejoins_and_the_space_grows() -> None:
+    """BodyPoses lists each body of the space once with the pose the body properties give, bit
+    for bit: after robots left and rejoined the space (Chipmunk reorders its bodies) and after
+    the space came to hold far more bodies than the arrays were made for (they are reallocated
+    and the numpy views follow)."""
+    import pymunk
+
+    from teamsim.world import BodyPoses
+
+    world = make_world(players=2, seed=3)
+    reader = BodyPoses(world.space, 3)
+
+    def check() -> None:
+        n = reader.read()
+        listed = {int(i): tuple(reader.poses[3 * k : 3 * k + 3].tolist()) for k, i in enumerate(reader.ids[:n])}
+        assert len(listed) == n == len(world.space.bodies) + 1  # Chipmunk lists the static body too
+        for body in [*world.space.bodies, world.space.static_body]:
+            assert listed[body.id] == (body.position.x, body.position.y, body.angle)
+
+    for k in range(20):
+        world.step(k * world.dt)
+    check()
+    first = world.robots[0]
+    first.remove_from(world.space)
+    check()
+    first.add_to(world.space)
+    first.teleport(1.0, -0.5, 3.0)
+    check()
+    rng = np.random.default_rng(1)
+    for _ in range(200):  # far past the arrays' first capacity
+        body = pymunk.Body(1.0, 1.0)
+        body.position = (rng.uniform(-4, 4), rng.uniform(-3, 3))
+        body.angle = rng.uniform(-10, 10)
+        world.space.add(body)
+    check()
+
+
+def test_a_robots_pose_is_its_body_pose_with_the_angle_wrapped_bit_for_bit() -> None:
+    """Robot.pose is body_pose with wrap_angle's angle, as the walking engine stores it after a
+    step (teamsim.walking.wrap_angle_nb, compiled) and as teleport stores it; angles beyond pi
+    (robots turning on the spot for a while) and placements at +-pi included."""
+    from cognition.geometry import wrap_angle
+    from teamsim.walking import wrap_angle_nb
+
+    rng = np.random.default_rng(8)
+    angles = np.concatenate([rng.uniform(-40.0, 40.0, 20000), [math.pi, -math.pi, 0.0, -0.0, 3 * math.pi, 1e-300]])
+    for a in angles.tolist():
+        assert math.copysign(1.0, wrap_angle_nb(a)) == math.copysign(1.0, wrap_angle(a))
+        assert wrap_angle_nb(a) == wrap_angle(a)
+    world = make_world(players=2, seed=6)
+    world.robots[1].teleport(0.5, 0.5, math.pi)
+    world.robots[2].teleport(-0.5, 0.5, -math.pi)
+    turned = 0
+    for k in range(600):
+        if k % 50 == 0:
+            for r in world.robots:
+                r.command(WalkRequest(0.1, 0.0, 1.5 if r.number == 1 else -1.5), None, HeadRequest())
+        world.step(k * world.dt)
+        for r in world.robots:
+            x, y, th = r.body_pose
+            assert r.pose == (x, y, wrap_angle(th)) == (r.body.position.x, r.body.position.y, wrap_angle(r.body.angle))
+            turned += abs(th) > math.pi
+    assert turned > 100  # unwrapped body angles beyond pi were part of the comparison
