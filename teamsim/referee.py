@@ -156,6 +156,24 @@ class RefereeParams:
         return self.set_position_rule == "penalize"
 
 
+class _Clocks:
+    """When the referee's per-step loops over the robots next have work (s of match time): the
+    earliest ``carried_until`` of a carried robot (``put_down``) and the earliest
+    ``penalized_until`` of a penalised one (``returns``); ``inf`` when there is none.
+
+    Every write of those fields goes through :meth:`_RobotStatus.__setattr__`, which keeps
+    ``put_down`` at or before every carry's end and sets ``returns`` to ``-inf`` (look at every
+    robot at the next step, which works the earliest out again). The loops, run only once their
+    clock is due, then do what they did when run in every physics step.
+    """
+
+    __slots__ = ("put_down", "returns")
+
+    def __init__(self) -> None:
+        self.put_down = math.inf
+        self.returns = math.inf
+
+
 @dataclass
 class _RobotStatus:
     penalty: int = Penalty.NONE
@@ -163,6 +181,20 @@ class _RobotStatus:
     removed_at: tuple[float, float] = (0.0, 0.0)
     carried_until: float = -1.0
     penalty_count: int = 0
+    clocks: _Clocks | None = field(default=None, repr=False, compare=False)
+    """The referee's clocks, told about every change of a time below (``None``: no referee)."""
+
+    def __setattr__(self, name: str, value: object) -> None:
+        object.__setattr__(self, name, value)
+        if name == "carried_until" or name == "penalty" or name == "penalized_until":
+            clocks = self.__dict__.get("clocks")  # absent while __init__ sets the fields
+            if clocks is None:
+                return
+            if name == "carried_until":
+                if 0.0 <= value < clocks.put_down:  # type: ignore[operator]
+                    clocks.put_down = value
+            else:
+                clocks.returns = -math.inf
 
 
 @dataclass
@@ -206,7 +238,10 @@ class Referee:
         self.state_since = 0.0
         self.secs_remaining = params.half_seconds
         self.score = [0, 0]
-        self.status: dict[RobotId, _RobotStatus] = {(r.team, r.number): _RobotStatus() for r in world.robots}
+        self._clocks = _Clocks()
+        self.status: dict[RobotId, _RobotStatus] = {
+            (r.team, r.number): _RobotStatus(clocks=self._clocks) for r in world.robots
+        }
         self._robot_status = [(r, self.status[(r.team, r.number)]) for r in world.robots]
         """Every robot with its status record, in robot order."""
         self.counters = RefereeCounters()
@@ -391,7 +426,8 @@ class Referee:
         """Advance the game by one physics step that ended at ``now``."""
         self._now_for_packet = now
         dt = self.world.dt
-        self._end_carrying(now)
+        if now >= self._clocks.put_down:
+            self._end_carrying(now)
         for ev in events:
             if ev.kind in ("robot_ball", "robot_kick"):
                 self.last_touch_team = ev.a[0]
@@ -422,7 +458,8 @@ class Referee:
             self._start_second_half(now)
         if self.state in _PENALISING_STATES:
             self._auto_penalties(now, events)
-        self._update_penalty_timers(now)
+        if now >= self._clocks.returns:
+            self._update_penalty_timers(now)
 
     def _kickoff(self, now: float) -> None:
         """SET ends: PLAYING starts with a kickoff (only the kicking team may play the ball for a while)."""
@@ -434,10 +471,16 @@ class Referee:
 
     def _end_carrying(self, now: float) -> None:
         """Put down the robots whose carry time is over (their ``picked_up`` signal goes off)."""
+        due = math.inf
         for r, st in self._robot_status:
-            if st.carried_until >= 0 and now >= st.carried_until:
-                st.carried_until = -1.0
-                r.picked_up = False
+            until = st.carried_until
+            if until >= 0:
+                if now >= until:
+                    st.carried_until = -1.0
+                    r.picked_up = False
+                elif until < due:
+                    due = until
+        self._clocks.put_down = due
 
     def _start_ready(self, now: float) -> None:
         self._enter(GameStateId.READY, now)
@@ -584,3 +627,4 @@ class Referee:
         for (team, number), st in self.status.items():
             if st.penalty and now >= st.penalized_until:  # penalised (Penalty.NONE is 0) and time is up
                 self.unpenalize(team, number, now)
+        self._clocks.returns = min([st.penalized_until for st in self.status.values() if st.penalty], default=math.inf)

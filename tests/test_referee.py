@@ -288,3 +288,35 @@ def test_bad_referee_and_event_input() -> None:
         Kidnap(-1.0, 0, 1)
     with pytest.raises(ValueError, match="names player 6"):
         MatchConfig(events=(ForceFall(1.0, 0, 6),))
+
+
+def test_the_referees_clocks_skip_only_steps_in_which_nobody_is_due() -> None:
+    """The referee runs its put-down and return loops only when a carried robot's or a penalised
+    robot's time is due (its clocks). A match whose clocks are forced due in every step (the loops
+    run in every physics step, as before the clocks) goes the same way, step for step: the same
+    picked-up and penalised flags, poses and event log, through carries by the referee, kidnaps
+    sensed as pick-ups, scripted and automatic penalties, returns and the side switch."""
+    kidnaps = [Kidnap(t, i % 2, 1 + i % 5, None, sense_pickup=True) for i, t in enumerate((3.0, 9.5, 14.25, 31.0))]
+    pushing = int(Penalty.PLAYER_PUSHING)
+    penalties = [ForcePenalty(t, 1 - i % 2, 1 + (2 * i) % 5, pushing) for i, t in enumerate((5.0, 12.0, 13.0, 29.5))]
+    events = (*kidnaps, *penalties)
+    cfg = replace(short_config(half_seconds=20.0, penalty_seconds=4.0, carry_seconds=0.7), events=events)
+    clocked, forced = Match(cfg), Match(cfg)
+    always = forced.referee.update
+
+    def update(now: float, evs: list) -> None:  # type: ignore[type-arg]
+        forced.referee._clocks.put_down = forced.referee._clocks.returns = -math.inf
+        always(now, evs)
+
+    forced.referee.update = update  # type: ignore[method-assign]
+    picked = returned = skipped = 0
+    while not clocked.finished:
+        clocked.step()
+        forced.step()
+        skipped += clocked.referee._clocks.put_down > clocked.time and clocked.referee._clocks.returns > clocked.time
+        for a, b in zip(clocked.world.robots, forced.world.robots, strict=True):
+            assert (a.picked_up, a.penalized, a.pose) == (b.picked_up, b.penalized, b.pose), f"t={clocked.time}"
+            picked += a.picked_up
+    assert forced.finished and clocked.log.events == forced.log.events
+    returned = len(clocked.referee.counters.returns)
+    assert returned >= 4 and picked > 100 and skipped > 0.9 * clocked.steps  # the clocks were exercised, and saved work
