@@ -221,6 +221,10 @@ class World:
         :meth:`_choose_ball_integrator`) instead of :meth:`_ball_velocity`."""
         self._ball_may_rest = True
         """The ball may have come to rest since the integrator was last chosen."""
+        self._ball_contacts = 0
+        """Shapes touching the ball now: Chipmunk calls a handler's begin when two shapes start
+        touching and its separate in the first step they no longer touch (or when one leaves the
+        space), in pairs; so after a sub-step this is 0 exactly when nothing touched the ball in it."""
         self.ball_shape = pymunk.Circle(self.ball, self.ball_radius)
         self.ball_shape.collision_type = COLLISION_BALL
         self.ball_shape.elasticity = params.ball_elasticity
@@ -305,7 +309,10 @@ class World:
         space has neither gravity nor damping; the speed stays 0, the spin 0), so the Python
         callback runs only while the ball moves. The state is read before every sub-step in
         which the C integrator would run, so contacts, kicks and placements that set the ball
-        moving switch back at once.
+        moving switch back at once; except before a later sub-step of a physics step when no
+        shape touched the ball in the one before (:attr:`_ball_contacts` is 0): only a contact
+        could have set a resting ball moving within the step (nothing outside Chipmunk runs
+        between the sub-steps), so it still rests.
         """
         ball = self.ball
         handle = ball._body
@@ -321,6 +328,7 @@ class World:
         self.space.on_collision(COLLISION_ROBOT, COLLISION_POST, begin=self._static_contact)
         self.space.on_collision(COLLISION_ROBOT, COLLISION_WALL, begin=self._static_contact)
         self.space.on_collision(COLLISION_ROBOT, COLLISION_BALL, begin=self._ball_contact)
+        self.space.on_collision(COLLISION_BALL, None, begin=self._ball_touch, separate=self._ball_release)
 
     # -- collision recording ---------------------------------------------------------------
     def _drive_toward(self, robot: Robot, ux: float, uy: float) -> float:
@@ -359,6 +367,12 @@ class World:
             "robot_post" if arbiter.shapes[1].collision_type == COLLISION_POST else "robot_wall"
         )
         self._events.append(CollisionEvent(self._now, kind, (robot.team, robot.number), None, True, impact))
+
+    def _ball_touch(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        self._ball_contacts += 1
+
+    def _ball_release(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        self._ball_contacts -= 1
 
     def _ball_contact(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
         robot = self._by_shape[arbiter.shapes[0]]
@@ -419,8 +433,8 @@ class World:
         substeps = self.params.substeps
         sub = dt / substeps
         space = self.space
-        for _ in range(substeps):
-            if self._ball_integrator_c or self._ball_may_rest:
+        for k in range(substeps):
+            if self._ball_may_rest or (self._ball_integrator_c and (k == 0 or self._ball_contacts)):
                 self._choose_ball_integrator()
             step_space(space, sub)
         poses = self._body_poses
