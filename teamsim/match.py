@@ -93,9 +93,9 @@ from teamsim.odometry import OdometryModel, OdometryParams, TrueOdometry
 from teamsim.params import Range, Ranges, check_choice, check_ranges, from_mapping, positive
 from teamsim.percept_params import PerceptParams
 from teamsim.percepts import PerceptSynthesizer, Scene
-from teamsim.placement import world_to_team
 from teamsim.profile import MatchProfile
 from teamsim.referee import Referee, RefereeParams
+from teamsim.robot import get_position, get_velocity
 from teamsim.state import WorldSnapshot
 from teamsim.summary import MatchSummary as MatchSummary  # re-exported
 from teamsim.world import PhysicsParams, World
@@ -267,6 +267,10 @@ class Match:
         self._scene = Scene(n)
         self._teams = np.array([float(r.team) for r in self.world.robots])
         """Team index of every robot (scene building)."""
+        rows = len(self.world.robots)
+        self._team_rows = (np.empty((rows, 5)), np.empty((rows, 5)))
+        """Every robot's pose in each team's frame, with its flags (:func:`teamsim.walking.team_poses_nb`)."""
+        self._numbers = [r.number for r in self.world.robots]
         self._captures: deque[list[Percepts] | list[CameraImage | None]] = deque()
         self._capture_index = 0
         self.percept_count = 0
@@ -512,12 +516,14 @@ class Match:
         if prof is not None:
             prof.brains += wallclock.perf_counter() - t0
             prof.robot_frames += len(outs)
-        signs = (self.referee.sign(0), self.referee.sign(1))
-        for robot, brain, out in zip(self.world.robots, self.brains, outs, strict=True):
+        truths: tuple[list[list[float]], ...] | None = None
+        for i, (robot, brain, out) in enumerate(zip(self.world.robots, self.brains, outs, strict=True)):
             estimate = getattr(brain, "pose", None)
             if isinstance(estimate, RobotPose) and not robot.penalized:
-                truth = world_to_team(signs[robot.team], *robot.pose)
-                self.localization_errors.add(estimate, truth)
+                if truths is None:  # every robot's true pose in both teams' frames, in one call each
+                    truths = (self._team_frame(0), self._team_frame(1))
+                x, y, th = truths[robot.team][i][:3]
+                self.localization_errors.add(estimate, (x, y, th))
             if not robot.penalized:
                 m = out.motion
                 robot.command(m.walk, m.kick, m.head)
@@ -525,16 +531,22 @@ class Match:
                 self.channel.send(robot.team, robot.number, out.message, now)
         self.frames += 1
 
+    def _team_frame(self, team: int) -> list[list[float]]:
+        """Every robot's row in team ``team``'s frame: x, y (m), theta (rad), 1.0 if not penalised,
+        1.0 if fallen; the pose is ``world_to_team(sign, *robot.pose)`` to the bit."""
+        rows = self._team_rows[team]
+        wk.team_poses_nb(self.world.motion.array, self.referee.sign(team), rows)
+        return rows.tolist()  # type: ignore[no-any-return]
+
     def _oracle_poses(self, team: int) -> tuple[list[OraclePose], float, float, float, float]:
         sign = self.referee.sign(team)
-        poses = []
-        for r in self.world.robots:
-            x, y, th = world_to_team(sign, *r.pose)
-            poses.append(OraclePose(r.number, x, y, th, not r.penalized, r.fallen_until >= 0))  # active, fallen
-        b = self.world.ball
-        bx, by = b.position
-        bvx, bvy = b.velocity
-        return (poses, sign * bx, sign * by, sign * bvx, sign * bvy)
+        poses = [
+            OraclePose(number, x, y, th, active != 0.0, fallen != 0.0)
+            for number, (x, y, th, active, fallen) in zip(self._numbers, self._team_frame(team), strict=True)
+        ]
+        ball = self.world.ball._body
+        b, v = get_position(ball), get_velocity(ball)  # ball.position and ball.velocity, read in C
+        return (poses, sign * b.x, sign * b.y, sign * v.x, sign * v.y)
 
     def _oracle_for(
         self, team: int, number: int, cached: tuple[list[OraclePose], float, float, float, float]

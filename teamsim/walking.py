@@ -252,6 +252,26 @@ def take_motions_nb(s: NDArray[np.float64], out: NDArray[np.float64]) -> None:  
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
+def team_poses_nb(s: NDArray[np.float64], sign: float, out: NDArray[np.float64]) -> None:  # pragma: no cover
+    """Every robot's pose in the frame of a team that attacks world +x if ``sign`` > 0 (else
+    world -x), with its flags, into the rows of ``out`` (N x 5): x, y (m), theta (rad), 1.0 if not
+    penalised, 1.0 if fallen. The pose is :func:`teamsim.placement.world_to_team` of
+    :attr:`~teamsim.robot.Robot.pose` (from ``BX``, ``BY``, ``WTH``) to the bit: the same negations,
+    the same sum and :func:`wrap_angle_nb`. ``ValueError`` if ``out`` is smaller than that."""
+    if out.shape[0] < s.shape[0] or out.shape[1] < 5:
+        raise ValueError("team_poses_nb: out needs a row of 5 for every robot")
+    for r in range(s.shape[0]):
+        x, y, th = s[r, BX], s[r, BY], s[r, WTH]
+        o = out[r]
+        if sign > 0:
+            o[0], o[1], o[2] = x, y, wrap_angle_nb(th)
+        else:
+            o[0], o[1], o[2] = -x, -y, wrap_angle_nb(th + math.pi)
+        o[3] = 1.0 if s[r, PENALIZED] == 0.0 else 0.0
+        o[4] = 1.0 if s[r, FALLEN_UNTIL] >= 0.0 else 0.0
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
 def scene_rows_nb(
     s: NDArray[np.float64],
     teams: NDArray[np.float64],

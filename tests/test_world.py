@@ -401,3 +401,32 @@ def test_a_resting_untouched_ball_is_not_looked_at_again_within_a_step_and_nothi
     full: list[int] = []
     assert play(make_world(players=2, seed=9), lean, False) == play(make_world(players=2, seed=9), full, True)
     assert len(lean) < 0.8 * len(full)  # reads were saved
+
+
+def test_team_poses_are_world_to_team_of_every_robots_pose_bit_for_bit() -> None:
+    """teamsim.walking.team_poses_nb (the match's oracle inputs and localization errors) gives
+    world_to_team(sign, *robot.pose) for both attack directions to the bit, with each robot's
+    penalised and fallen flags, while robots turn past +-pi; an output too small is a clear
+    error, not a write past its end."""
+    from teamsim.placement import world_to_team
+    from teamsim.walking import WIDTH, team_poses_nb
+
+    world = make_world(players=3, seed=2)
+    world.robots[4].penalized = True
+    world.robots[1].fall(0.0, 2.0)
+    rows = np.empty((len(world.robots), 5))
+    negated = 0
+    for k in range(400):
+        if k % 40 == 0:
+            for r in world.robots:
+                r.command(WalkRequest(0.1, 0.05, 1.2 if r.number % 2 else -1.2), None, HeadRequest())
+        world.step(k * world.dt)
+        for sign in (1.0, -1.0):
+            team_poses_nb(world.motion.array, sign, rows)
+            for r, row in zip(world.robots, rows.tolist(), strict=True):
+                assert tuple(row[:3]) == world_to_team(sign, *r.pose)
+                assert (row[3], row[4]) == (float(not r.penalized), float(r.is_fallen()))
+                negated += sign < 0 and abs(r.pose[2]) > 3.0
+    assert negated > 20  # headings near +-pi, where the half turn wraps, were compared
+    with pytest.raises(ValueError, match="a row of 5 for every robot"):
+        team_poses_nb(np.zeros((6, WIDTH)), 1.0, np.zeros((5, 5)))
