@@ -201,9 +201,12 @@ def post_step_nb(
     ids, in the order Chipmunk lists them (:class:`teamsim.world.BodyPoses`); row ``r``'s body
     has the id ``body_ids[r]``. Its pose goes to ``NX``..; bodies that are no robot's (the ball,
     the control bodies) are skipped. The true motion runs from the pose at the start (``BX``..)
-    to that new pose, which becomes the start pose (and ``WTH`` its wrapped angle).
+    to that new pose, which becomes the start pose (and ``WTH`` its wrapped angle). ``ValueError``
+    if ``n`` is more than ``poses`` and ``ids`` hold or ``body_ids`` has fewer rows than ``s``.
     """
     rows = s.shape[0]
+    if n < 0 or n > ids.shape[0] or 3 * n > poses.shape[0] or body_ids.shape[0] < rows:
+        raise ValueError("post_step_nb: n bodies need 3 n poses and n ids, and every row a body id")
     for k in range(n):
         bid = ids[k]
         for r in range(rows):

@@ -220,3 +220,17 @@ def test_field_fouls_kernel_equals_the_python_reference(seed: int) -> None:
     assert [tuple(r) for r in out[:k].tolist()] == ref
     assert entered.tolist() == ref_entered
     assert {code for _, code in ref} == {fouls.LEFT_FIELD, fouls.INACTIVE}  # both fouls occur
+
+
+def test_post_step_refuses_a_body_count_its_arrays_do_not_hold() -> None:
+    """post_step_nb reads n bodies' poses and ids: a count beyond the arrays, or fewer body ids than
+    robots, is a ValueError before anything is read or written (not a read past the end)."""
+    s = np.zeros((2, wk.WIDTH))
+    before = s.copy()
+    ids, body_ids = np.array([7, 8], dtype=np.uint64), np.array([7, 8], dtype=np.uint64)
+    for poses, n, bids in ((np.zeros(3), 2, body_ids), (np.zeros(6), 3, body_ids), (np.zeros(6), 2, body_ids[:1])):
+        with pytest.raises(ValueError, match="n bodies need"):
+            wk.post_step_nb(s, poses, ids, n, bids)
+    assert np.array_equal(s, before)
+    wk.post_step_nb(s, np.arange(6.0), ids, 2, body_ids)  # in range: taken
+    assert s[1, wk.NX] == 3.0 and s[1, wk.NTH] == 5.0
