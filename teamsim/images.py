@@ -197,16 +197,7 @@ class ImageRenderer:
     def camera_image(self, scene: Scene, robot: int, time: float = 0.0, effects: bool = True) -> CameraImage:
         """Robot ``robot``'s image with its camera model, as a brain receives it."""
         r = self._check(scene, robot)
-        o = scene.observers[r]
-        ci, yaw, pitch = int(o[_CAM]), float(o[_YAW]), float(o[_PITCH])
-        return CameraImage(
-            time=time,
-            pixels=self._render(scene, r, None, effects),
-            camera=self.rig.camera_matrix(ci, yaw, pitch),
-            camera_name=CAMERA_NAMES[ci],
-            head_yaw=yaw,
-            head_pitch=pitch,
-        )
+        return self._image_record(scene.observers[r], self._render(scene, r, None, effects), time)
 
     def camera_images(self, scene: Scene, time: float = 0.0, effects: bool = True) -> list[CameraImage | None]:
         """Every robot's :meth:`camera_image` (``None`` for a robot whose camera sees nothing: a
@@ -230,29 +221,34 @@ class ImageRenderer:
             render_nb(obs, r, scene.occluders, scene.ball, *inputs, out)
         if effects:
             for r in seeing:
-                o = obs[r]
-                fx, fy = self._focal[int(o[_CAM])]
-                yaw_rate = float(o[_YAWR] + scene.turn_rates[r])
-                self.effects.apply(pixels[r], fx, fy, yaw_rate, float(o[_PITCHR]), bool(o[_WALK] > 0.5))
+                self._apply_effects(scene, r, pixels[r])
         images: list[CameraImage | None] = [None] * obs.shape[0]
         for r in seeing:
-            o = obs[r]
-            ci, yaw, pitch = int(o[_CAM]), float(o[_YAW]), float(o[_PITCH])
-            images[r] = CameraImage(
-                time=time,
-                pixels=pixels[r],
-                camera=self.rig.camera_matrix(ci, yaw, pitch),
-                camera_name=CAMERA_NAMES[ci],
-                head_yaw=yaw,
-                head_pitch=pitch,
-            )
+            images[r] = self._image_record(obs[r], pixels[r], time)
         return images
+
+    def _apply_effects(self, scene: Scene, r: int, pixels: NDArray[np.uint8]) -> None:
+        """The image effects on robot ``r``'s rendered image, with its head and body rates."""
+        o = scene.observers[r]
+        fx, fy = self._focal[int(o[_CAM])]
+        yaw_rate = float(o[_YAWR] + scene.turn_rates[r])
+        self.effects.apply(pixels, fx, fy, yaw_rate, float(o[_PITCHR]), bool(o[_WALK] > 0.5))
+
+    def _image_record(self, o: NDArray[np.float64], pixels: NDArray[np.uint8], time: float) -> CameraImage:
+        """The :class:`CameraImage` of an observer row ``o`` and its pixels."""
+        ci, yaw, pitch = int(o[_CAM]), float(o[_YAW]), float(o[_PITCH])
+        return CameraImage(
+            time=time,
+            pixels=pixels,
+            camera=self.rig.camera_matrix(ci, yaw, pitch),
+            camera_name=CAMERA_NAMES[ci],
+            head_yaw=yaw,
+            head_pitch=pitch,
+        )
 
     def _render(self, scene: Scene, r: int, out: NDArray[np.uint8] | None, effects: bool) -> NDArray[np.uint8]:
         """:meth:`render` of a checked robot index."""
-        o = scene.observers[r]
-        ci = int(o[_CAM])
-        shape = self._shapes[ci]
+        shape = self._shapes[int(scene.observers[r, _CAM])]
         if out is None:
             out = np.empty(shape, dtype=np.uint8)
         elif out.shape != shape or out.dtype != np.uint8 or not out.flags.c_contiguous:
@@ -260,9 +256,7 @@ class ImageRenderer:
         effects = effects and self.effects.active
         render_nb(scene.observers, r, scene.occluders, scene.ball, *self._inputs[effects and self._lit], out)
         if effects:
-            fx, fy = self._focal[ci]
-            yaw_rate = float(o[_YAWR] + scene.turn_rates[r])
-            self.effects.apply(out, fx, fy, yaw_rate, float(o[_PITCHR]), bool(o[_WALK] > 0.5))
+            self._apply_effects(scene, r, out)
         return out
 
     def annotate(self, scene: Scene) -> list[ImageAnnotations | None]:
