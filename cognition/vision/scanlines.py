@@ -17,17 +17,19 @@ vertical scan (a column), 1 for a horizontal one (a row).
 
 from __future__ import annotations
 
+import math
+
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.vision.projection import metres_per_pixel_nb
+from cognition.vision.projection import ground_nb, ground_ok_nb
 
 WHITE = 2
 GREEN = 1
 
 
-@nb.njit(cache=True, error_model="python", fastmath=False)
+@nb.njit(cache=True, inline="always")
 def _green_within(classes: NDArray[np.uint8], j: int, i: int, dj: int, di: int, gap: int) -> bool:  # pragma: no cover
     """True if a green pixel lies within ``gap`` steps of (j, i) in direction (dj, di), before any white."""
     height, width = classes.shape
@@ -43,12 +45,22 @@ def _green_within(classes: NDArray[np.uint8], j: int, i: int, dj: int, di: int, 
     return False
 
 
-@nb.njit(cache=True, error_model="python", fastmath=False)
+@nb.njit(cache=True, inline="always")
 def _accept(
     cam: NDArray[np.float64], u: float, v: float, run: int, vertical: bool, width: float, blur: float
 ) -> bool:  # pragma: no cover
-    mv, mu = metres_per_pixel_nb(cam, u, v)
-    m = mv if vertical else mu
+    """Whether a run of ``run`` px centred at (u, v) fits a painted line of ``width`` m seen
+    along the scan (module docstring), with ``blur`` px of motion blur along it.
+
+    The ground size of a pixel along the scan is
+    :func:`~cognition.vision.projection.metres_per_pixel_nb`'s (the same
+    operations), but only the scan's own direction is projected and measured; the other
+    neighbour is only checked to meet the ground, as that function requires."""
+    x0, y0, ok0 = ground_nb(cam, u, v, 0.0)
+    x1, y1, ok1 = ground_nb(cam, u, v + 1.0, 0.0) if vertical else ground_nb(cam, u + 1.0, v, 0.0)
+    if not (ok0 and ok1 and (ground_ok_nb(cam, u + 1.0, v) if vertical else ground_ok_nb(cam, u, v + 1.0))):
+        return False
+    m = math.hypot(x1 - x0, y1 - y0)
     if not np.isfinite(m) or m <= 0.0:
         return False
     expected = width / m
@@ -61,7 +73,7 @@ _HIGHS = np.uint64(0x8080808080808080)
 _WHITES = np.uint64(WHITE * 0x0101010101010101)
 
 
-@nb.njit(cache=True, error_model="python", fastmath=False)
+@nb.njit(cache=True, inline="always")
 def _next_white(line: NDArray[np.uint8], words: NDArray[np.uint64], k: int, end: int) -> int:  # pragma: no cover
     """The first index in [k, end) where ``line`` is WHITE, else ``end``. ``words`` is ``line``
     seen as 64-bit words: at a word boundary, eight pixels without WHITE are skipped at once (a
@@ -76,6 +88,28 @@ def _next_white(line: NDArray[np.uint8], words: NDArray[np.uint64], k: int, end:
             return k
         k += 1
     return end
+
+
+@nb.njit(cache=True, inline="always")
+def _copy_column(classes: NDArray[np.uint8], i: int, j: int, line: NDArray[np.uint8]) -> None:  # pragma: no cover
+    """``line[j:height] = classes[j:, i]`` (``j`` >= 0), by unsigned indices: numba then leaves
+    out its wraparound of negative indices, which costs more than the copy itself."""
+    ui = np.uint64(i)
+    for q in range(np.uint64(j), np.uint64(classes.shape[0])):
+        line[q] = classes[q, ui]
+
+
+@nb.njit(cache=True, inline="always")
+def _copy_row(
+    classes: NDArray[np.uint8], boundary: NDArray[np.int32], j: int, line: NDArray[np.uint8]
+) -> None:  # pragma: no cover
+    """``line[:width] = classes[j]``, with the pixels above the field boundary (``j <
+    boundary[i]``) set to 0 (no WHITE): the scan then skips the white above the field (goals,
+    robots, the hall: most of a row's white) eight pixels at a time instead of one by one,
+    and a run ends where the boundary cuts it, as it must."""
+    row = classes[j]
+    for q in range(np.uint64(classes.shape[1])):
+        line[q] = row[q] if j >= boundary[q] else 0
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
@@ -93,7 +127,11 @@ def line_points_nb(
     ``blur_u`` and ``blur_v`` are the motion blur lengths (px) along rows and columns.
 
     Each scanline is first copied into a contiguous buffer (a column's pixels lie one image row
-    apart), where :func:`_next_white` finds the next WHITE pixel eight pixels at a time."""
+    apart), where :func:`_next_white` finds the next WHITE pixel eight pixels at a time; a
+    row's pixels above the field boundary are copied as 0 (:func:`_copy_row`), so the scan
+    never stops on them. The helpers are inlined (``inline="always"``, compiled with this
+    function's flags): as calls, each would take and release a reference to its array
+    arguments (atomic operations that cost more than a helper's work) for every run."""
     height, width = classes.shape
     cap = (width // step + 1) * height // 2 + (height // step + 1) * width // 2 + 16
     out = np.empty((cap, 4))
@@ -102,8 +140,7 @@ def line_points_nb(
     words = line.view(np.uint64)
     for i in range(step // 2, width, step):
         j = max(boundary[i], 0)
-        for q in range(j, height):
-            line[q] = classes[q, i]
+        _copy_column(classes, i, j, line)
         while j < height and n < cap:
             j = _next_white(line, words, j, height)
             if j >= height:
@@ -122,18 +159,14 @@ def line_points_nb(
                 out[n, 3] = 0.0
                 n += 1
     for j in range(step // 2, height, step):
-        for q in range(width):
-            line[q] = classes[j, q]
+        _copy_row(classes, boundary, j, line)
         i = 0
         while i < width and n < cap:
             i = _next_white(line, words, i, width)
             if i >= width:
                 break
-            if j < boundary[i]:
-                i += 1
-                continue
             i0 = i
-            while i < width and line[i] == WHITE and j >= boundary[i]:
+            while i < width and line[i] == WHITE:
                 i += 1
             run = i - i0
             before = _green_within(classes, j, i0 - 1, 0, -1, max_gap)
