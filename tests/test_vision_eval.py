@@ -13,6 +13,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -362,6 +363,19 @@ def test_draw_percepts_marks_every_kind_in_its_colour_and_keeps_the_input() -> N
         draw_percepts(np.zeros((240, 320), dtype=np.uint8), p)
     with pytest.raises(ValueError, match="scale"):
         draw_percepts(image, p, scale=0.0)
+
+
+def test_a_circle_reaching_behind_the_camera_is_drawn_without_casting_nan_pixels() -> None:
+    # a circle percept a step ahead: most of its ring is behind the camera, where project gives NaN
+    _, ann = fixed_scene()
+    cam = ann.camera
+    near = row(cam, 160.0, 238.0)
+    near[Col.X] = 0.3
+    p = percepts(cam, circle=[near])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy warns when it casts NaN to an integer
+        drawn = draw_percepts(np.zeros((240, 320, 3), dtype=np.uint8), p)
+    assert (np.abs(drawn.astype(int) - COLOURS[Kind.CIRCLE]).sum(axis=2) < 40).sum() > 5  # the visible arc
 
 
 def test_a_crossing_counts_for_recall_only_when_its_arms_show_its_type() -> None:

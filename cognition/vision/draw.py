@@ -176,7 +176,7 @@ def _draw_circles(out: NDArray[np.uint8], percepts: Percepts, scale: float, radi
             ring = np.column_stack([t.x[k] + radius * np.cos(a), t.y[k] + radius * np.sin(a), np.zeros(len(a))])
             ring_uv, front = cam.project(ring)
             good = front & np.isfinite(ring_uv).all(axis=1) & (np.abs(ring_uv) < 1e5).all(axis=1)
-            pts = np.round(ring_uv * scale).astype(np.int64)
+            pts = np.round(np.where(good[:, None], ring_uv, 0.0) * scale).astype(np.int64)  # no NaN cast
             for j in range(len(a) - 1):  # only consecutive pairs in front of the camera
                 if good[j] and good[j + 1]:
                     cv2.line(
