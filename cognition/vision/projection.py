@@ -91,6 +91,22 @@ def metres_per_pixel_nb(cam: NDArray[np.float64], u: float, v: float) -> tuple[f
     return math.hypot(x1 - x0, y1 - y0), math.hypot(x2 - x0, y2 - y0)
 
 
+@nb.njit(cache=True, inline="always")
+def metres_per_pixel_along_nb(
+    cam: NDArray[np.float64], u: float, v: float, vertical: bool
+) -> float:  # pragma: no cover - compiled
+    """One of :func:`metres_per_pixel_nb`'s two sizes, the same to the bit: along the image column
+    (``vertical``) or along the row (m; infinite at or above the horizon). Only that direction
+    is projected and measured; the other neighbour is only checked to meet the ground. Inlined
+    into its callers (the scanlines, with this module's flags), as a call would take and
+    release a reference to ``cam``."""
+    x0, y0, ok0 = ground_nb(cam, u, v, 0.0)
+    x1, y1, ok1 = ground_nb(cam, u, v + 1.0, 0.0) if vertical else ground_nb(cam, u + 1.0, v, 0.0)
+    if not (ok0 and ok1 and (ground_ok_nb(cam, u + 1.0, v) if vertical else ground_ok_nb(cam, u, v + 1.0))):
+        return math.inf
+    return math.hypot(x1 - x0, y1 - y0)
+
+
 def sigmas(
     base_alpha: float,
     base_beta: float,

@@ -17,13 +17,11 @@ vertical scan (a column), 1 for a horizontal one (a row).
 
 from __future__ import annotations
 
-import math
-
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from cognition.vision.projection import ground_nb, ground_ok_nb
+from cognition.vision.projection import metres_per_pixel_along_nb
 
 WHITE = 2
 GREEN = 1
@@ -50,17 +48,8 @@ def _accept(
     cam: NDArray[np.float64], u: float, v: float, run: int, vertical: bool, width: float, blur: float
 ) -> bool:  # pragma: no cover
     """Whether a run of ``run`` px centred at (u, v) fits a painted line of ``width`` m seen
-    along the scan (module docstring), with ``blur`` px of motion blur along it.
-
-    The ground size of a pixel along the scan is
-    :func:`~cognition.vision.projection.metres_per_pixel_nb`'s (the same
-    operations), but only the scan's own direction is projected and measured; the other
-    neighbour is only checked to meet the ground, as that function requires."""
-    x0, y0, ok0 = ground_nb(cam, u, v, 0.0)
-    x1, y1, ok1 = ground_nb(cam, u, v + 1.0, 0.0) if vertical else ground_nb(cam, u + 1.0, v, 0.0)
-    if not (ok0 and ok1 and (ground_ok_nb(cam, u + 1.0, v) if vertical else ground_ok_nb(cam, u, v + 1.0))):
-        return False
-    m = math.hypot(x1 - x0, y1 - y0)
+    along the scan (module docstring), with ``blur`` px of motion blur along it."""
+    m = metres_per_pixel_along_nb(cam, u, v, vertical)
     if not np.isfinite(m) or m <= 0.0:
         return False
     expected = width / m
