@@ -36,14 +36,19 @@ print(config.CPU_FEATURES is not None and config.CPU_FEATURES.endswith(",-prefer
 """
 
 
-def _probe(*args: str, **env: str) -> tuple[bool, bool]:
-    """(numba's features drop the 256-bit preference, a float32 loop uses zmm registers) in a fresh process."""
+def _run(code: str, *args: str, **env: str) -> subprocess.CompletedProcess[str]:
+    """``code`` in a fresh Python process, with ``env`` over the environment cleared of the width settings."""
     clean = {
         k: v for k, v in os.environ.items() if k not in ("TEAMSIM_VECTOR_BITS", "NUMBA_CPU_FEATURES", "NUMBA_CPU_NAME")
     }
-    out = subprocess.run(
-        [sys.executable, "-c", _PROBE, *args], env={**clean, **env}, capture_output=True, text=True, timeout=300
+    return subprocess.run(
+        [sys.executable, "-c", code, *args], env={**clean, **env}, capture_output=True, text=True, timeout=300
     )
+
+
+def _probe(*args: str, **env: str) -> tuple[bool, bool]:
+    """(numba's features drop the 256-bit preference, a float32 loop uses zmm registers) in a fresh process."""
+    out = _run(_PROBE, *args, **env)
     assert out.returncode == 0, out.stderr
     dropped, zmm = out.stdout.split()
     return dropped == "True", zmm == "True"
@@ -70,20 +75,11 @@ def test_numba_targets_chosen_by_the_user_are_left_alone() -> None:
 @pytest.mark.skipif(not AVX512, reason="the host has no AVX-512")
 def test_code_generated_before_the_import_keeps_the_default_width_and_says_so() -> None:
     assert _probe("--compile-first") == (False, False)
-    out = subprocess.run(
-        [sys.executable, "-c", _PROBE, "--compile-first", "--strict"],
-        env={k: v for k, v in os.environ.items() if k != "TEAMSIM_VECTOR_BITS"},
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    out = _run(_PROBE, "--compile-first", "--strict")
     assert out.returncode != 0 and "RuntimeWarning" in out.stderr and "import cognition first" in out.stderr
 
 
 def test_a_bad_setting_names_the_variable() -> None:
-    out = subprocess.run(
-        [sys.executable, "-c", "import cognition"], env={**os.environ, "TEAMSIM_VECTOR_BITS": "128"},
-        capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
+    out = _run("import cognition", TEAMSIM_VECTOR_BITS="128")
     assert out.returncode != 0
     assert "TEAMSIM_VECTOR_BITS must be 256 or 512, got '128'" in out.stderr
