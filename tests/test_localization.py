@@ -254,7 +254,9 @@ def test_vision_poses_never_seed_the_estimates_mirror_image(variant):
     ``lost_spread`` near 0 keeps the robot "lost", so vision poses are injected at every
     resampling; none may land near the mirror image."""
     frames, truth = record(2, 6.0)
-    params = LocalizationParams(lost_spread=1e-6)
+    # matured candidates must also beat the estimate, which a right estimate never lets them
+    # (test_matured_candidates_must_beat_the_estimate): here that rule is off
+    params = LocalizationParams(lost_spread=1e-6, maturing_beat_estimate=False)
     loc = make_localizer(variant, SPL, params, np.random.default_rng(4), player_number=1, players_per_team=1)
     assert isinstance(loc, ParticleFilter)
     injected, near_mirror, err = 0, 0, []
@@ -267,6 +269,60 @@ def test_vision_poses_never_seed_the_estimates_mirror_image(variant):
     assert injected > 100, injected  # vision poses did come in
     assert near_mirror == 0, near_mirror
     assert np.mean(err) < 0.3, np.mean(err)
+
+
+def test_matured_candidates_must_beat_the_estimate():
+    """A matured candidate replaces particles only when it explained the frames clearly better
+    than the estimate (``maturing_margin``). A robot whose estimate is right, kept "lost" so
+    that every resampling asks for poses, receives none: no candidate beats a right estimate,
+    and the estimate stays right. With the rule off the same frames bring in hundreds."""
+    frames, truth = record(2, 6.0)
+    for beat in (True, False):
+        params = LocalizationParams(lost_spread=1e-6, maturing_beat_estimate=beat)
+        loc = make_localizer("maturing", SPL, params, np.random.default_rng(4), player_number=1, players_per_team=1)
+        assert isinstance(loc, ParticleFilter)
+        injected, err = 0, []
+        for f, (tx, ty, _) in zip(frames, truth, strict=True):
+            pose = loc.update(f)
+            injected += loc.injected
+            err.append(math.hypot(pose.x - tx, pose.y - ty))
+        if beat:
+            assert injected == 0, injected
+            assert np.mean(err) < 0.3, np.mean(err)
+        else:
+            assert injected > 100, injected
+
+
+def test_matured_injection_needs_the_margin():
+    """:func:`maturing.inject_matured_nb` takes only candidates old enough whose mean advantage
+    over the estimate exceeds the margin; with a NaN margin (rule off) age alone decides."""
+    from cognition.localization.maturing import inject_matured_nb
+
+    cand = np.array([[1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0], [4.0, 0.0, 0.0]])
+    ages = np.array([9, 9, 3, 9], dtype=np.int64)
+    adv = np.array([[6.0, 10.0], [4.0, 10.0], [50.0, 10.0], [-1.0, 10.0]])  # means 0.6, 0.4, 5, -0.1
+    state = np.array([7], dtype=np.uint64)
+    parts = np.zeros((40, 3))
+    got = inject_matured_nb(parts, np.arange(40), cand, ages, adv, 4, 7, 0.5, state)
+    assert got == 40 and np.all(np.abs(parts[:, 0] - 1.0) < 0.3)  # only the first: old enough and 0.6 > 0.5
+    assert inject_matured_nb(parts, np.arange(40), cand, ages, adv, 4, 7, 0.7, state) == 0
+    got = inject_matured_nb(parts, np.arange(40), cand, ages, adv, 4, 7, math.nan, state)
+    assert got == 40 and set(np.round(parts[:, 0]).astype(int)) == {1, 2, 4}  # every old candidate
+
+
+def test_mirror_guard_keeps_poses_beside_an_estimate_near_the_centre():
+    """Near the centre spot the estimate and its mirror image are close: a pose beside the
+    estimate lies within ``MIRROR_RADIUS`` of both and must stay; a pose nearer the mirror
+    image is mirrored onto the estimate's side."""
+    from cognition.localization.frame_step import MIRROR_RADIUS, away_from_mirror_nb
+
+    x, y = 0.5, -0.2  # the mirror image (-0.5, 0.2) is 1.08 m away
+    poses = np.array([[0.6, -0.1, 0.3], [-0.55, 0.25, 1.0], [3.0, 1.0, 0.0]])
+    assert math.hypot(poses[0, 0] + x, poses[0, 1] + y) < MIRROR_RADIUS
+    away_from_mirror_nb(poses, np.arange(3), x, y)
+    np.testing.assert_allclose(poses[0], [0.6, -0.1, 0.3])
+    np.testing.assert_allclose(poses[1], [0.55, -0.25, 1.0 - math.pi])
+    np.testing.assert_allclose(poses[2], [3.0, 1.0, 0.0])
 
 
 def _pose_of(parts: np.ndarray, w: np.ndarray, prev: tuple[float, float, float]) -> np.ndarray:

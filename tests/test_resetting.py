@@ -221,7 +221,7 @@ def test_around_feature_puts_every_pose_at_the_measured_distance(model: FieldMod
 
 
 # -- maturing candidates ----------------------------------------------------------------------
-def ref_mature(model, cand, count, obs, dx, dy, dth, consistency, hough, state):
+def ref_mature(model, cand, count, adv, obs, estimate, dx, dy, dth, consistency, hough, state):
     """The plain numpy candidate step (the code :func:`maturing.mature_nb` replaced)."""
     if cand.shape[0]:
         c, s = np.cos(cand[:, 2]), np.sin(cand[:, 2])
@@ -235,15 +235,22 @@ def ref_mature(model, cand, count, obs, dx, dy, dth, consistency, hough, state):
         strict[:, O.CONF] = 1.0
         strict[:, O.FLOOR] = 0.0
         m = model
+        maps = (m.posts, m.crossings, m.lines, m.marks, m.poles, m.cross_grid, m.line_grid, m.geo)
         K.log_likelihood_nb(
-            np.ascontiguousarray(cand), nc, strict, hough, m.posts, m.crossings, m.lines, m.marks, m.poles,
-            m.cross_grid, m.line_grid, m.geo, ll, np.zeros((10, nc)), np.full(nc, 1.0 / nc), np.empty(obs.shape[0]),
+            np.ascontiguousarray(cand), nc, strict, hough, *maps, ll, np.zeros((10, nc)), np.full(nc, 1.0 / nc),
+            np.empty(obs.shape[0]),
+        )  # fmt: skip
+        own = np.empty(nc + 1)
+        K.log_likelihood_nb(
+            np.vstack([cand, estimate]), nc + 1, obs, hough, *maps, own, np.zeros((6, nc + 1)),
+            np.full(nc + 1, 1.0 / (nc + 1)), np.empty(obs.shape[0]),
         )  # fmt: skip
         good = np.exp(ll / obs.shape[0]) >= consistency
         count = np.where(good, count + 1, 0)
-        keep = count > 0
-        cand, count = cand[keep], count[keep]
-    return cand, count
+        adv = adv + np.column_stack([(own[:nc] - own[nc]) / obs.shape[0], np.ones(nc)])
+        keep = good
+        cand, count, adv = cand[keep], count[keep], adv[keep]
+    return cand, count, adv
 
 
 def test_maturing_matches_the_plain_reference_over_a_walk(model: FieldModel) -> None:
@@ -253,8 +260,8 @@ def test_maturing_matches_the_plain_reference_over_a_walk(model: FieldModel) -> 
     cap, consistency = 40, 0.3
     hough = np.zeros(5)
     g = np.random.default_rng(5)
-    cand, count, nc = np.zeros((cap, 3)), np.zeros(cap, dtype=np.int64), 0
-    rc, rn = np.zeros((0, 3)), np.zeros(0, dtype=np.int64)
+    cand, count, adv, nc = np.zeros((cap, 3)), np.zeros(cap, dtype=np.int64), np.zeros((cap, 2)), 0
+    rc, rn, ra = np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros((0, 2))
     s1, s2 = np.array([99], dtype=np.uint64), np.array([99], dtype=np.uint64)
     ll, scratch = np.zeros(cap), np.zeros((6, cap))
     oldest = 0
@@ -265,18 +272,21 @@ def test_maturing_matches_the_plain_reference_over_a_walk(model: FieldModel) -> 
         obs = _observe(model, g, (x, y, th), lines=False)
         if obs.shape[0] == 0:
             continue
+        estimate = np.array([x + 0.05, y - 0.03, th + 0.02])  # a good estimate, a little off
         nc = mature_nb(
-            cand, count, nc, obs, dx, dy, dth, consistency, hough, model.posts, model.crossings, model.lines,
-            model.marks, model.poles, model.cross_grid, model.line_grid, model.geo, ll, scratch, s1,
+            cand, count, adv, nc, obs, estimate, dx, dy, dth, consistency, hough, model.posts, model.crossings,
+            model.lines, model.marks, model.poles, model.cross_grid, model.line_grid, model.geo, ll, scratch, s1,
         )  # fmt: skip
-        rc, rn = ref_mature(model, rc, rn, obs, dx, dy, dth, consistency, hough, s2)
+        rc, rn, ra = ref_mature(model, rc, rn, ra, obs, estimate, dx, dy, dth, consistency, hough, s2)
         room = cap - rc.shape[0]
         if room >= max(1, cap // 4):
             fresh = ref_from_vision(model, obs, room, True, s2)
             rc, rn = np.concatenate([rc, fresh]), np.concatenate([rn, np.zeros(fresh.shape[0], dtype=np.int64)])
+            ra = np.concatenate([ra, np.zeros((fresh.shape[0], 2))])
         assert nc == rc.shape[0], frame
         np.testing.assert_allclose(cand[:nc], rc, atol=1e-9)
         np.testing.assert_array_equal(count[:nc], rn)
+        np.testing.assert_allclose(adv[:nc], ra, atol=1e-9)
         assert s1[0] == s2[0]
         oldest = max(oldest, int(rn.max(initial=0)))
     assert oldest >= 7  # candidates did mature (the default maturing_threshold)

@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from cognition.localization import kernels as K  # noqa: N812 - short kernel namespace
 from cognition.localization.amcl import AMCLInjection
 from cognition.localization.kld import bin_masses_nb, kld_count_nb
-from cognition.localization.maturing import Maturing, inject_matured_nb, mature_nb, move_candidates_nb
+from cognition.localization.maturing import Maturing, inject_matured_nb, mature_nb, maturing_margin, move_candidates_nb
 from cognition.localization.params import LocalizationParams
 from cognition.localization.resample import resample_nb
 from cognition.localization.resetting import SensorResetting, _from_vision_nb
@@ -44,7 +44,8 @@ from cognition.localization.strategy import Injection
 
 MIRROR_RADIUS = 1.5
 """Injected poses (from vision, matured candidates, the safety net's random ones) within this
-distance (m) of the estimate's mirror image are mirrored onto the estimate."""
+distance (m) of the estimate's mirror image, and nearer to it than to the estimate, are mirrored
+onto the estimate."""
 WATCH_MIN_FRAMES = 5
 """Observed frames the safety net needs in its window before it may act."""
 WATCH_MIN_SPAN = 0.8
@@ -58,8 +59,8 @@ field (AMCL), vision (sensor resetting), the matured candidates (particle maturi
     C_LOST_SPREAD, C_INTERVAL, C_WINDOW, C_RELOCALIZE_SHARE, C_PARTICLES, C_INJECTION_MAX, C_ALPHA_SLOW,
     C_ALPHA_FAST, C_AVERAGES, C_LOST_SHARE, C_COUNT_FLOOR, C_KLD, C_KLD_MIN, C_KLD_EPSILON, C_KLD_Z, C_KLD_BIN_XY,
     C_KLD_BIN_THETA, C_LOW_VARIANCE, C_JITTER_XY, C_JITTER_THETA, C_SOURCE, C_CONSISTENCY, C_THRESHOLD,
-    C_ANY_FEATURE, C_HALF_LENGTH, C_HALF_WIDTH, N_KNOBS,
-) = range(27)  # fmt: skip
+    C_ANY_FEATURE, C_HALF_LENGTH, C_HALF_WIDTH, C_MARGIN, N_KNOBS,
+) = range(28)  # fmt: skip
 """Entries of the knob array (:func:`knobs`)."""
 
 R_HEAD, R_COUNT, R_UNEXPLAINED, R_OBSERVED, R_RELOCALIZE = range(5)
@@ -98,6 +99,7 @@ def knobs(
     k[C_SOURCE], k[C_CONSISTENCY], k[C_THRESHOLD] = source, p.maturing_consistency, p.maturing_threshold
     k[C_ANY_FEATURE] = 1.0 if p.reset_from_any_feature else 0.0
     k[C_HALF_LENGTH], k[C_HALF_WIDTH] = half_length, half_width
+    k[C_MARGIN] = maturing_margin(p)
     return k
 
 
@@ -149,10 +151,13 @@ def grow_ring(
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def away_from_mirror_nb(poses, rows, x, y):  # pragma: no cover - compiled
     """Mirror (x, y, theta) -> (-x, -y, theta + pi) every pose of ``poses[rows]`` that lies within
-    :data:`MIRROR_RADIUS` of the mirror image (-x, -y) of the estimate (x, y), in place
-    (``ParticleFilter.away_from_mirror``, row by row)."""
+    :data:`MIRROR_RADIUS` of the mirror image (-x, -y) of the estimate (x, y) and nearer to it than
+    to the estimate, in place (``ParticleFilter.away_from_mirror``, row by row). The second test
+    matters near the centre spot, where the estimate and its mirror image are less than
+    ``2 MIRROR_RADIUS`` apart: a pose right beside the estimate was mirrored across the field."""
     for r in rows:
-        if math.hypot(poses[r, 0] + x, poses[r, 1] + y) < MIRROR_RADIUS:
+        d_mirror = math.hypot(poses[r, 0] + x, poses[r, 1] + y)
+        if d_mirror < MIRROR_RADIUS and d_mirror < math.hypot(poses[r, 0] - x, poses[r, 1] - y):
             poses[r, 0] *= -1.0
             poses[r, 1] *= -1.0
             poses[r, 2] = np.mod(poses[r, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
@@ -160,7 +165,7 @@ def away_from_mirror_nb(poses, rows, x, y):  # pragma: no cover - compiled
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def _inject_nb(
-    parts, slots, m, source, obs, x, y, own_half, kn, posts, crossings, marks, poles, cand, ages, nc, state
+    parts, slots, m, source, obs, x, y, own_half, kn, posts, crossings, marks, poles, cand, ages, advantage, nc, state
 ):  # pragma: no cover - compiled
     """The strategy's injection into ``parts[slots[:m]]``; returns how many poses it wrote."""
     if source == 1:  # AMCL: uniform poses (mirrored pairs, or the own half)
@@ -177,7 +182,9 @@ def _inject_nb(
             parts[slots[i], 0], parts[slots[i], 1], parts[slots[i], 2] = fresh[i, 0], fresh[i, 1], fresh[i, 2]
         return got
     if source == 3:  # particle maturing: poses around the matured candidates
-        got = inject_matured_nb(parts, slots[:m], cand, ages, nc, int(kn[C_THRESHOLD]), state)
+        got = inject_matured_nb(
+            parts, slots[:m], cand, ages, advantage, nc, int(kn[C_THRESHOLD]), kn[C_MARGIN], state
+        )  # fmt: skip
         if got:
             away_from_mirror_nb(parts, slots[:m], x, y)
         return got
@@ -188,7 +195,8 @@ def _inject_nb(
 def frame_step_nb(
     parts, spare, n, logw, w, w_pose, ll, scratch, prev, pose_par, pose_out, evidence_out, motion, state,
     hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, rows, offsets, table, packed, blind,
-    dx, dy, dth, now, own_half, kn, last_resample, times, bad, seen, watch, averages, cand, ages, in_use, slots,
+    dx, dy, dth, now, own_half, kn, last_resample, times, bad, seen, watch, averages, cand, ages, advantage, in_use,
+    slots,
 ):  # fmt: skip  # pragma: no cover - compiled
     """One frame of a particle filter with a built-in strategy (module docstring), up to the
     resampling, and the resampling too when it injects nothing.
@@ -201,7 +209,7 @@ def frame_step_nb(
     observations), ``table``: :func:`~.sensor.sensor_table`; ``packed`` (as many rows as
     percept rows) receives the observation rows (:func:`~.sensor.pack_nb`). ``kn``: :func:`knobs`;
     ``last_resample`` (1 entry, s), the safety net's ring and state (:func:`watch_nb`), the AMCL
-    ``averages`` (w_slow, w_fast), the maturing candidates (``cand``, ``ages``, ``in_use``) are
+    ``averages`` (w_slow, w_fast), the maturing candidates (``cand``, ``ages``, ``advantage``, ``in_use``) are
     updated in place; ``slots`` is work space. The other arguments are those of
     :func:`.kernels.frame_nb`.
 
@@ -223,8 +231,8 @@ def frame_step_nb(
     if cand.shape[0] > 0:  # the maturing candidates (Maturing.observe)
         if k:
             in_use[0] = mature_nb(
-                cand, ages, in_use[0], obs, dx, dy, dth, kn[C_CONSISTENCY], hough, posts, crossings, lines, marks,
-                poles, cross_grid, line_grid, geo, ll, scratch, state,
+                cand, ages, advantage, in_use[0], obs, pose_out[:3], dx, dy, dth, kn[C_CONSISTENCY], hough, posts,
+                crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch, state,
             )  # fmt: skip
         else:
             move_candidates_nb(cand, in_use[0], dx, dy, dth)
@@ -261,7 +269,7 @@ def frame_step_nb(
         return x, y, th, spread, k, share, n_new, False
     _, relocalize = resample_step_nb(
         parts, n, w, logw, spare, n_new, 0, slots, state, kn, obs, x, y, own_half, posts, crossings, marks, poles,
-        watch, averages, cand, ages, in_use,
+        watch, averages, cand, ages, advantage, in_use,
     )  # fmt: skip
     return x, y, th, spread, k, 0.0, n_new, relocalize
 
@@ -269,7 +277,7 @@ def frame_step_nb(
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def resample_step_nb(
     parts, n, w, logw, spare, n_new, m_inj, slots, state, kn, obs, x, y, own_half, posts, crossings, marks, poles,
-    watch, averages, cand, ages, in_use,
+    watch, averages, cand, ages, advantage, in_use,
 ):  # fmt: skip  # pragma: no cover - compiled
     """The resampling of :func:`frame_step_nb`: draw ``n_new`` particles into ``spare``, inject
     ``m_inj`` poses from the strategy's source, restart the AMCL averages after an injection,
@@ -282,7 +290,7 @@ def resample_step_nb(
     if m_inj > 0:
         injected = _inject_nb(
             spare, slots, m_inj, int(kn[C_SOURCE]), obs, x, y, own_half, kn, posts, crossings, marks, poles,
-            cand, ages, in_use[0], state,
+            cand, ages, advantage, in_use[0], state,
         )  # fmt: skip
         if injected:  # Injection.restart
             averages[0] = averages[1] = 0.0

@@ -15,9 +15,17 @@ batches (when at least a quarter of them is free). Candidates with at least
 ``maturing_threshold`` consistent frames may replace particles at the next resampling
 (:func:`inject_matured_nb`); :class:`Maturing` is the filter's injection strategy (variant ``maturing``).
 
+**A candidate must also beat the estimate** (``maturing_beat_estimate``, not in the paper). Each
+frame scores the candidates and the filter's own pose estimate with the filter's sensor model
+(with its floors); a matured candidate is injected only when its per-observation
+log-likelihood minus the estimate's, averaged over the frames it was kept, exceeds
+``maturing_margin`` (the filter itself would clearly have preferred it on what the robot saw).
+MEASUREMENTS.
+
 Everything per frame is one compiled call (:func:`mature_nb`, or :func:`move_candidates_nb`
 on a frame without observations): the candidates live in a fixed buffer (C x 3 poses,
-team frame, m and rad; C ages in frames), the first ``nc`` rows in use.
+team frame, m and rad; C ages in frames; C advantages over the estimate, in summed
+per-observation log-likelihood), the first ``nc`` rows in use.
 """
 
 from __future__ import annotations
@@ -40,6 +48,12 @@ _CONF, _FLOOR, _TYPE = int(O.CONF), int(O.FLOOR), int(O.TYPE)
 _LINE = int(T.LINE)
 
 
+def maturing_margin(params: LocalizationParams) -> float:
+    """The mean advantage a matured candidate must exceed (``maturing_margin``), NaN when
+    ``maturing_beat_estimate`` is off (every matured candidate may be injected, as in the paper)."""
+    return params.maturing_margin if params.maturing_beat_estimate else math.nan
+
+
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def move_candidates_nb(cand, nc, dx, dy, dth):  # pragma: no cover - compiled
     """Move the first ``nc`` candidate poses by the odometry (dx, dy m in the robot's frame
@@ -55,8 +69,10 @@ def move_candidates_nb(cand, nc, dx, dy, dth):  # pragma: no cover - compiled
 def mature_nb(
     cand,
     count,
+    advantage,
     nc,
     obs,
+    estimate,
     dx,
     dy,
     dth,
@@ -76,8 +92,9 @@ def mature_nb(
 ):  # pragma: no cover - compiled
     """One frame of the candidates (module docstring) in place; returns the new ``nc``.
 
-    ``cand`` (C x 3) and ``count`` (C) are the buffers, ``obs`` the frame's observation rows
-    (K >= 1, :class:`~cognition.localization.sensor.O`), the map arrays those of
+    ``cand`` (C x 3), ``count`` (C) and ``advantage`` (C x 2: summed advantage, kept frames) are
+    the buffers, ``obs`` the frame's observation rows (K >= 1, :class:`~cognition.localization.sensor.O`),
+    ``estimate`` the filter's pose this frame (x, y, theta; team frame), the map arrays those of
     :class:`~cognition.localization.fieldmodel.FieldModel`; ``ll`` (>= C) and ``scratch``
     (6 x >= C) are work space, ``state`` the filter's xorshift64* state.
     """
@@ -93,6 +110,15 @@ def mature_nb(
             cand, nc, strict, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch,
             w, np.empty(k),
         )  # fmt: skip
+        both = np.empty((nc + 1, 3))  # the candidates and the estimate, scored by the filter's own model
+        for i in range(nc):
+            both[i, 0], both[i, 1], both[i, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
+        both[nc, 0], both[nc, 1], both[nc, 2] = estimate[0], estimate[1], estimate[2]
+        own = np.empty(nc + 1)
+        K.log_likelihood_nb(
+            both, nc + 1, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, own,
+            np.empty((6, nc + 1)), np.full(nc + 1, 1.0 / (nc + 1)), np.empty(k),
+        )  # fmt: skip
         landmark = 0
         for r in range(k):
             if obs[r, _TYPE] != _LINE:
@@ -102,6 +128,8 @@ def mature_nb(
             if math.exp(ll[i] / k) >= consistency:
                 cand[kept, 0], cand[kept, 1], cand[kept, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
                 count[kept] = count[i] + landmark
+                advantage[kept, 0] = advantage[i, 0] + (own[i] - own[nc]) / k
+                advantage[kept, 1] = advantage[i, 1] + 1.0
                 kept += 1
         nc = kept
     cap = cand.shape[0]
@@ -111,20 +139,22 @@ def mature_nb(
         for i in range(fresh.shape[0]):
             cand[nc, 0], cand[nc, 1], cand[nc, 2] = fresh[i, 0], fresh[i, 1], fresh[i, 2]
             count[nc] = 0
+            advantage[nc, 0] = advantage[nc, 1] = 0.0
             nc += 1
     return nc
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def inject_matured_nb(parts, slots, cand, count, nc, threshold, state):  # pragma: no cover - compiled
+def inject_matured_nb(parts, slots, cand, count, advantage, nc, threshold, margin, state):  # pragma: no cover
     """Replace the particles at ``slots`` by poses around the matured candidates (the first
-    ``nc`` rows of ``cand`` whose ``count`` reaches ``threshold``, taken in turn; Gaussian noise
-    of 0.05 m and 0.05 rad, as :func:`kernels.gaussian_set_nb`). Returns how many were replaced: all
-    of ``slots``, or 0 when no candidate has matured."""
+    ``nc`` rows of ``cand`` whose ``count`` reaches ``threshold`` and whose mean advantage over
+    the estimate, ``advantage[:, 0] / advantage[:, 1]``, exceeds ``margin`` (NaN: no such test);
+    taken in turn; Gaussian noise of 0.05 m and 0.05 rad, as :func:`kernels.gaussian_set_nb`).
+    Returns how many were replaced: all of ``slots``, or 0 when no candidate has matured."""
     ready = np.empty((nc, 3))
     k = 0
     for i in range(nc):
-        if count[i] >= threshold:
+        if count[i] >= threshold and not (advantage[i, 0] <= margin * advantage[i, 1]):
             ready[k, 0], ready[k, 1], ready[k, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
             k += 1
     if k == 0:
@@ -151,6 +181,9 @@ class Maturing(AMCLInjection):
         """Candidate poses (buffer; the first :attr:`nc` rows are in use)."""
         self.ages = np.zeros(params.maturing_candidates, dtype=np.int64)
         """Consistent frames with a landmark of each candidate."""
+        self.advantage = np.zeros((params.maturing_candidates, 2))
+        """Each candidate's summed per-observation log-likelihood minus the estimate's over its kept
+        frames, and the number of those frames."""
         self.in_use = np.zeros(1, dtype=np.int64)
         """:attr:`nc` as an array, which the compiled frame (:mod:`.frame_step`) updates in place."""
 
@@ -165,11 +198,11 @@ class Maturing(AMCLInjection):
 
     def observe(self, pf: FilterView, obs: NDArray[np.float64], dx: float, dy: float, dth: float) -> None:
         """Move the candidates by the odometry and, on a frame with observations, score, drop
-        and refill them (:func:`mature_nb`)."""
+        and refill them (:func:`mature_nb`) against the filter's estimate of this frame."""
         if obs.shape[0]:
             self.nc = mature_nb(
-                self.cand, self.ages, self.nc, obs, dx, dy, dth, self.params.maturing_consistency, pf.hough_params,
-                *pf.maps, pf.ll_buffer, pf.scratch, pf.kernel_state,
+                self.cand, self.ages, self.advantage, self.nc, obs, pf.estimate, dx, dy, dth,
+                self.params.maturing_consistency, pf.hough_params, *pf.maps, pf.ll_buffer, pf.scratch, pf.kernel_state,
             )  # fmt: skip
         else:
             move_candidates_nb(self.cand, self.nc, dx, dy, dth)
@@ -179,7 +212,12 @@ class Maturing(AMCLInjection):
 
     def inject(self, pf: FilterView, slots: NDArray[np.int64], obs: NDArray[np.float64], pose: RobotPose) -> int:
         threshold = self.params.maturing_threshold
-        got = int(inject_matured_nb(pf.parts, slots, self.cand, self.ages, self.nc, threshold, pf.kernel_state))
+        got = int(
+            inject_matured_nb(
+                pf.parts, slots, self.cand, self.ages, self.advantage, self.nc, threshold, maturing_margin(self.params),
+                pf.kernel_state,
+            )
+        )  # fmt: skip
         if got:
             pf.parts[slots] = pf.away_from_mirror(pf.parts[slots], pose)
         return got

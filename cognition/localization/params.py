@@ -73,6 +73,11 @@ maturing_threshold         7               [1, 10000]     Darmstadt VI: consiste
 maturing_candidates        40              [1, 10000]     candidate poses kept while maturing
 maturing_consistency       0.3             [0, 1]         a frame counts as consistent with a candidate when the
                                                           per-observation likelihood (no floors) reaches this
+maturing_beat_estimate     True            true/false     a matured candidate replaces particles only when it
+                                                          explained the observations better than the filter's
+                                                          estimate (not in the paper; :mod:`.maturing`)
+maturing_margin            0.5             [0, 100]       by this much: its per-observation log-likelihood minus
+                                                          the estimate's, averaged over its kept frames
 cluster_radius             0.40 m          (0, 100]       CMU III.E: particles within this of the best form the pose
 jump_weight                0.2             [0, 1]         CMU III.E: below this cluster weight the pose jumps
                                                           to the heaviest particle's cluster, if that is heavier
@@ -192,6 +197,8 @@ class LocalizationParams:
     maturing_threshold: int = 7
     maturing_candidates: int = 40
     maturing_consistency: float = 0.3
+    maturing_beat_estimate: bool = True
+    maturing_margin: float = 0.5
     cluster_radius: float = 0.40
     jump_weight: float = 0.2
     lost_spread: float = 0.5
@@ -253,6 +260,7 @@ class LocalizationParams:
         "maturing_threshold": Range(1, 10_000),
         "maturing_candidates": Range(1, MAX_CANDIDATES),
         "maturing_consistency": PROBABILITY,
+        "maturing_margin": Range(0.0, 100.0),
         "cluster_radius": positive(100.0),
         "jump_weight": PROBABILITY,
         "lost_spread": positive(100.0),

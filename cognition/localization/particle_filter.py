@@ -266,15 +266,22 @@ class ParticleFilter(Localizer):
         the strategy is another class and the frame runs its Python steps."""
         inj = self.injection
         if isinstance(inj, Maturing):
-            self._candidates = (inj.cand, inj.ages, inj.in_use)
+            self._candidates = (inj.cand, inj.ages, inj.advantage, inj.in_use)
         else:
-            self._candidates = (np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64))
+            none = (np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros((0, 2)), np.zeros(1, dtype=np.int64))
+            self._candidates = none
         self.relocalizations = 0
         """Times the safety net injected random poses (module docstring)."""
         self.observation_evidence = np.zeros(0)
         """Each observation's mean likelihood under the particles in the latest frame (no floors)."""
         n0 = placement_poses(field, self.player_number, self.players_per_team, GameStateId.INITIAL, False)
         self.set_particles_around(n0)
+
+    @property
+    def estimate(self) -> NDArray[np.float64]:
+        """This frame's pose estimate (x m, y m, theta rad; team frame) once the observation update
+        has run: a view of the compiled frame's output, against which the maturing candidates are scored."""
+        return self._pose_out[:3]
 
     @property
     def w_slow(self) -> float:
@@ -376,14 +383,14 @@ class ParticleFilter(Localizer):
         explained, packed, weights = np.empty(n_rows), np.empty((n_rows, N_O)), np.empty(n)
         if self._watch_state[R_COUNT] >= self._watched[0].shape[0]:  # the ring is full: grow it
             self._watched = grow_ring(*self._watched, self._watch_state)
-        cand, ages, in_use = self._candidates
+        cand, ages, advantage, in_use = self._candidates
         parts, spare, averages = self.parts, self._spare, self.injection.averages
         x, y, th, spread, k, share, n_new, relocalize = frame_step_nb(
             parts, spare, n, self.logw, self.w, weights, self.ll_buffer, self.scratch, self._prev, self._pose_par,
             self._pose_out, explained, self._motion, self.kernel_state, self.hough_params, *self.maps, rows, offsets,
             self._table, packed, bool(frame.picked_up or self._penalty), o.dx, o.dy, o.dtheta, frame.time,
             self._own_half, self._knobs, self._last_resample, *self._watched, self._watch_state, averages, cand, ages,
-            in_use, self._slots,
+            advantage, in_use, self._slots,
         )  # fmt: skip
         pose = RobotPose(x, y, th, self._cov.copy(), spread > p.lost_spread, n, parts[:n].copy(), weights, self.name)
         self.observation_evidence = explained[:k]
@@ -394,7 +401,7 @@ class ParticleFilter(Localizer):
             self.injected, relocalize = resample_step_nb(
                 parts, n, self.w, self.logw, spare, n_new, m_inj, self._slots, self.kernel_state, self._knobs,
                 packed[:k], x, y, self._own_half, posts, crossings, marks, poles, self._watch_state, averages, cand,
-                ages, in_use,
+                ages, advantage, in_use,
             )  # fmt: skip
         if share >= 0.0:  # resampled: the new set is in the spare buffer
             self.parts, self._spare = spare, parts

@@ -60,6 +60,8 @@ class FilterView(Protocol):
     """Sensor-model work space."""
     kernel_state: NDArray[np.uint64]
     """The xorshift64* state every compiled step draws from."""
+    estimate: NDArray[np.float64]
+    """This frame's pose estimate (x, y, theta) after the observation update."""
 
     def uniform_poses(self, m: int) -> NDArray[np.float64]:
         """``m`` poses uniform over the field (or the own half while the game says so)."""
