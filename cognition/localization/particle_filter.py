@@ -47,7 +47,8 @@ lowvar     none in the paper's algorithm
 amcl       random poses, as many as the drop of w_fast below w_slow says
 reset      poses from vision, as many as the drop of w_fast below w_slow says; needs a goal post
            in view (or any feature with ``reset_from_any_feature``)
-maturing   candidate poses from any feature, once they have been consistent for a while
+maturing   candidate poses from any feature, once they have been consistent for a while and
+           explained the frames clearly better than the estimate (the latter not in the paper)
 =========  ==========================================================================================
 
 Safety net of every variant (not in the papers; ``relocalize_seconds`` > 0, the default). An
@@ -86,12 +87,13 @@ them apart on an SPL field needs information from outside the robot's own percep
 game state before kickoff, teammates' ball), which this module does not use beyond the own
 half of the game's setup phases. What the filters do keep is the side they are on: poses
 from vision (``reset``, ``maturing``) that fall within :data:`~.frame_step.MIRROR_RADIUS` of the
-estimate's mirror image are mirrored onto the estimate before they replace particles (not in
-the papers). A few lines and one post fit both halves equally, so such poses mature as
-readily as right ones; injected while the spread test called an accurate robot lost, they
-flipped goalkeepers that then faced their own net, saw nothing and stayed 180 degrees wrong
-(5 v 5 image matches; maturing, 60 s halves, seeds 0, 2, 3, 6: mean error 0.270, 0.152,
-0.207, 0.192 m without, 0.080, 0.044, 0.162, 0.085 m with).
+estimate's mirror image, and nearer to it than to the estimate, are mirrored onto the estimate
+before they replace particles (not in the papers; without the second test, near the centre spot
+poses right beside the estimate were mirrored across the field). A few lines and one post fit
+both halves equally, so such poses mature as readily as right ones; injected while the spread
+test called an accurate robot lost, they flipped goalkeepers that then faced their own net, saw
+nothing and stayed 180 degrees wrong (5 v 5 image matches; maturing, 60 s halves, seeds 0, 2, 3,
+6: mean error 0.270, 0.152, 0.207, 0.192 m without, 0.080, 0.044, 0.162, 0.085 m with).
 
 The evidence of a frame is the mean likelihood of the particles, taken per observation
 (the K-th root for K observations) so that w_slow and w_fast do not jump with the number of
