@@ -263,7 +263,6 @@ def test_maturing_matches_the_plain_reference_over_a_walk(model: FieldModel) -> 
     cand, count, adv, nc = np.zeros((cap, 3)), np.zeros(cap, dtype=np.int64), np.zeros((cap, 2)), 0
     rc, rn, ra = np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros((0, 2))
     s1, s2 = np.array([99], dtype=np.uint64), np.array([99], dtype=np.uint64)
-    ll, scratch = np.zeros(cap), np.zeros((6, cap))
     oldest = 0
     x, y, th = -2.0, 1.0, 0.3
     for frame in range(90):
@@ -275,7 +274,7 @@ def test_maturing_matches_the_plain_reference_over_a_walk(model: FieldModel) -> 
         estimate = np.array([x + 0.05, y - 0.03, th + 0.02])  # a good estimate, a little off
         nc = mature_nb(
             cand, count, adv, nc, obs, estimate, dx, dy, dth, consistency, hough, model.posts, model.crossings,
-            model.lines, model.marks, model.poles, model.cross_grid, model.line_grid, model.geo, ll, scratch, s1,
+            model.lines, model.marks, model.poles, model.cross_grid, model.line_grid, model.geo, s1,
         )  # fmt: skip
         rc, rn, ra = ref_mature(model, rc, rn, ra, obs, estimate, dx, dy, dth, consistency, hough, s2)
         room = cap - rc.shape[0]

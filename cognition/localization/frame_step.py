@@ -232,7 +232,7 @@ def frame_step_nb(
         if k:
             in_use[0] = mature_nb(
                 cand, ages, advantage, in_use[0], obs, pose_out[:3], dx, dy, dth, kn[C_CONSISTENCY], hough, posts,
-                crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch, state,
+                crossings, lines, marks, poles, cross_grid, line_grid, geo, state,
             )  # fmt: skip
         else:
             move_candidates_nb(cand, in_use[0], dx, dy, dth)

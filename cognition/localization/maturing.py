@@ -54,7 +54,7 @@ from cognition.localization.sensor import O, T
 from cognition.localization.strategy import FilterView
 from cognition.representations import RobotPose
 
-_CONF, _FLOOR, _TYPE = int(O.CONF), int(O.FLOOR), int(O.TYPE)
+_TYPE = int(O.TYPE)
 _LINE = int(T.LINE)
 
 
@@ -96,8 +96,6 @@ def mature_nb(
     cross_grid,
     line_grid,
     geo,
-    ll,
-    scratch,
     state,
 ):  # pragma: no cover - compiled
     """One frame of the candidates (module docstring) in place; returns the new ``nc``.
@@ -105,37 +103,31 @@ def mature_nb(
     ``cand`` (C x 3), ``count`` (C) and ``advantage`` (C x 2: summed advantage, kept frames) are
     the buffers, ``obs`` the frame's observation rows (K >= 1, :class:`~cognition.localization.sensor.O`),
     ``estimate`` the filter's pose this frame (x, y, theta; team frame), the map arrays those of
-    :class:`~cognition.localization.fieldmodel.FieldModel`; ``ll`` (>= C) and ``scratch``
-    (6 x >= C) are work space, ``state`` the filter's xorshift64* state.
+    :class:`~cognition.localization.fieldmodel.FieldModel`, ``state`` the filter's xorshift64* state.
     """
     move_candidates_nb(cand, nc, dx, dy, dth)
     k = obs.shape[0]
     if nc:
-        strict = obs.copy()
-        for r in range(k):
-            strict[r, _CONF] = 1.0
-            strict[r, _FLOOR] = 0.0
-        w = np.full(nc, 1.0 / nc)
-        K.log_likelihood_nb(
-            cand, nc, strict, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, ll, scratch,
-            w, np.empty(k),
-        )  # fmt: skip
-        both = np.empty((nc + 1, 3))  # the candidates and the estimate, scored by the filter's own model
+        # one call scores the candidates and the estimate: with the filter's floors into ``own``
+        # (the advantage) and, in row 5 of the work space, as pure Gaussians (the strict
+        # consistency test: confidence 1 and no floor give the same sum to the bit)
+        both = np.empty((nc + 1, 3))
         for i in range(nc):
             both[i, 0], both[i, 1], both[i, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
         both[nc, 0], both[nc, 1], both[nc, 2] = estimate[0], estimate[1], estimate[2]
-        own = np.empty(nc + 1)
+        own, work = np.empty(nc + 1), np.empty((6, nc + 1))
         K.log_likelihood_nb(
-            both, nc + 1, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, own,
-            np.empty((6, nc + 1)), np.full(nc + 1, 1.0 / (nc + 1)), np.empty(k),
+            both, nc + 1, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, own, work,
+            np.full(nc + 1, 1.0 / (nc + 1)), np.empty(k),
         )  # fmt: skip
+        strict = work[5]
         landmark = 0
         for r in range(k):
             if obs[r, _TYPE] != _LINE:
                 landmark = 1
         kept = 0
         for i in range(nc):
-            if math.exp(ll[i] / k) >= consistency:
+            if math.exp(strict[i] / k) >= consistency:
                 cand[kept, 0], cand[kept, 1], cand[kept, 2] = cand[i, 0], cand[i, 1], cand[i, 2]
                 count[kept] = count[i] + landmark
                 advantage[kept, 0] = advantage[i, 0] + (own[i] - own[nc]) / k
@@ -212,7 +204,7 @@ class Maturing(AMCLInjection):
         if obs.shape[0]:
             self.nc = mature_nb(
                 self.cand, self.ages, self.advantage, self.nc, obs, pf.estimate, dx, dy, dth,
-                self.params.maturing_consistency, pf.hough_params, *pf.maps, pf.ll_buffer, pf.scratch, pf.kernel_state,
+                self.params.maturing_consistency, pf.hough_params, *pf.maps, pf.kernel_state,
             )  # fmt: skip
         else:
             move_candidates_nb(self.cand, self.nc, dx, dy, dth)

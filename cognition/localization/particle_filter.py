@@ -227,9 +227,9 @@ class ParticleFilter(Localizer):
         self._spare = np.zeros((cap, 3))
         self.logw = np.zeros(cap)
         self.w = np.full(cap, 1.0 / cap)
-        self.ll_buffer = np.zeros(max(cap, p.maturing_candidates))
-        """Log-likelihood work space of the compiled sensor update (particles or candidates)."""
-        self.scratch = np.zeros((6, max(cap, p.maturing_candidates)))
+        self.ll_buffer = np.zeros(cap)
+        """Log-likelihood work space of the compiled sensor update (one entry per particle)."""
+        self.scratch = np.zeros((6, cap))
         """Work space of the compiled sensor update (:func:`kernels.log_likelihood_nb`)."""
         self._pose_out = np.zeros(14)
         self._cov = self._pose_out[5:14].reshape(3, 3)
