@@ -95,8 +95,28 @@ def arcs_nb(
     out = np.zeros(n_seg, dtype=np.bool_)
     if radius <= 0.0:
         return out
+    # the points of each segment in increasing index (CSR: one pass instead of a search per
+    # segment), and scratch space for the largest segment
+    sizes = np.zeros(n_seg + 1, dtype=np.int64)
+    for k in range(labels.shape[0]):
+        if 0 <= labels[k] < n_seg:
+            sizes[labels[k] + 1] += 1
+    longest = 0
     for g in range(n_seg):
-        idx = np.flatnonzero(labels == g)
+        longest = max(longest, sizes[g + 1])
+        sizes[g + 1] += sizes[g]
+    flat = np.empty(sizes[n_seg], dtype=np.int64)
+    fill = sizes[:n_seg].copy()
+    for k in range(labels.shape[0]):
+        if 0 <= labels[k] < n_seg:
+            flat[fill[labels[k]]] = k
+            fill[labels[k]] += 1
+    m = np.zeros((3, 3))
+    r = np.zeros(3)
+    t_buf = np.empty(longest)
+    d_buf = np.empty(longest)
+    for g in range(n_seg):
+        idx = flat[sizes[g] : sizes[g + 1]]
         n = idx.shape[0]
         if n < 6:
             continue
@@ -115,10 +135,10 @@ def arcs_nb(
         th = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
         ux, uy = math.cos(th), math.sin(th)
         # d = a t^2 + b t + c by least squares (normal equations), and the straight line's rms
-        m = np.zeros((3, 3))
-        r = np.zeros(3)
-        t = np.empty(n)
-        d = np.empty(n)
+        m[:] = 0.0
+        r[:] = 0.0
+        t = t_buf[:n]
+        d = d_buf[:n]
         line2 = 0.0
         for q in range(n):
             dx, dy = ground[idx[q], 0] - mx, ground[idx[q], 1] - my

@@ -216,13 +216,20 @@ def _dip(
         return False
     need = max(dip, 0.2 * wexp)
     k = int(1.3 * wexp) + step
-    left = b
+    # b - min(rows) > need holds exactly when one row is more than ``need`` above b (integer
+    # rows: exact as floats), so each side stops at the first such row
+    left = right = False
     for q in range(max(0, i - k), i, step):
-        left = min(left, float(boundary[q]))
-    right = b
+        if b - float(boundary[q]) > need:
+            left = True
+            break
+    if not left:
+        return False
     for q in range(i + step, min(w, i + k + 1), step):
-        right = min(right, float(boundary[q]))
-    return b - left > need and b - right > need
+        if b - float(boundary[q]) > need:
+            right = True
+            break
+    return right
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=False)

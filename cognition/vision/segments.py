@@ -164,8 +164,10 @@ def _extend(
     The candidates are read in the grid's order (``start``, ``order`` of :func:`grid_nb`):
     ``gu``, ``gv`` and ``taken`` hold every point's coordinates and whether it is used at its
     place in ``order``, so the search reads them in sequence, and the three cells of a grid
-    row, adjacent in that order, are one run of places. Points certainly beyond ``gap`` (by
-    their squared distance) are passed over without :func:`math.hypot`. Inlined into
+    row, adjacent in that order, are one run of places. Points certainly beyond ``gap`` or
+    beyond the fifth nearest so far (by their squared distance, with a margin above its
+    rounding), and points behind the chain's end, are passed over without :func:`math.hypot`
+    (the same points are kept as when every distance is computed). Inlined into
     :func:`segments_nb` with :func:`white_ratio_nb` (``inline="always"``, compiled with its
     flags): as calls, every step of a chain would take and release a reference to each array
     argument, atomic operations that cost more than the search."""
@@ -179,18 +181,21 @@ def _extend(
     best_d[:] = np.inf
     best_p[:] = -1
     far2 = gap * gap * (1.0 + 1e-9)  # a margin far above the rounding errors of either distance
+    worst2 = np.inf  # the same bound on the fifth nearest so far: a point beyond it cannot enter
+    forward = hi - lo >= 2
     for gy in range(max(0, gy0 - 1), min(gh, gy0 + 2)):
         for k in range(start[gy * gw + gx1], start[gy * gw + max(gx1, gx2)]):
             if taken[k]:
                 continue
             dx, dy = gu[k] - ex, gv[k] - ey
-            if dx * dx + dy * dy > far2:
-                continue  # certainly farther than gap: no math.hypot needed
+            q = dx * dx + dy * dy
+            if q > far2 or q > worst2:
+                continue  # certainly farther than gap or than the fifth nearest: no math.hypot needed
+            if forward and dx * fx + dy * fy <= 0.0:
+                continue  # would turn back
             d = math.hypot(dx, dy)
             if d > gap or d < 1e-9:
                 continue
-            if hi - lo >= 2 and dx * fx + dy * fy <= 0.0:
-                continue  # would turn back
             # keep the five nearest (insertion into a sorted list of five)
             if d < best_d[4]:
                 m = 4
@@ -200,6 +205,7 @@ def _extend(
                     m -= 1
                 best_d[m] = d
                 best_p[m] = order[k]
+                worst2 = best_d[4] * best_d[4] * (1.0 + 1e-9)
     choice = -1
     choice_ratio = -1.0
     have_line = False  # the chain's line (trigonometry) is computed once, for the first candidate needing it
