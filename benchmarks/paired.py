@@ -23,6 +23,7 @@ job              what is timed, per unit
 ===============  =====================================================================================
 match            the default 5 v 5 match (``maturing``, percepts; ``--half-seconds``), per robot and
                  cognition frame; a 1 s-half match first loads numba's cache
+match-images     the same match on rendered images (``default`` effects, each robot's vision)
 soccer-percepts  ``soccer_v0`` 5 v 5, all robots controlled, random continuous actions, percepts,
                  cognition at 30 Hz, ``--steps`` parallel steps after 20 untimed ones, per agent step
 soccer-truth     the same in ``truth`` mode, cognition at 10 Hz, per agent step
@@ -38,7 +39,7 @@ ratio_median        median over rounds of this / base (below 1: this checkout is
 ratio_min, max      the range of the per-round ratios
 ==================  ==========================================================================
 
-Usage: ``python -m benchmarks.paired --base ../teamsim-old [--job match] [--mode same-core]
+Usage: ``python -m benchmarks.paired --base ../teamsim-old [--job match|match-images|...] [--mode same-core]
 [--core 0] [--rounds 8] [--half-seconds 60] [--steps 300] [--seed 0] [--json out.json]``;
 ``--base`` is a checkout of another commit (``git worktree add ../teamsim-old <commit>``).
 ``cross-core`` needs two cores.
@@ -61,7 +62,7 @@ from cognition.pipeline import CognitionConfig
 from teamsim.match import Match, MatchConfig
 from teamsim.referee import RefereeParams
 def config(seed, half):
-    return MatchConfig(seed=seed, observation="percepts", cognition=CognitionConfig(),
+    return MatchConfig(seed=seed, observation={observation!r}, cognition=CognitionConfig(),
                        referee=RefereeParams(half_seconds=half))
 Match(config({seed} + 1, 1.0)).run()
 m = Match(config({seed}, {half}))
@@ -106,15 +107,16 @@ else:
         env.step(act)
     print(({clock}() - t) / (10 * steps) * 1e6)
 """
-JOBS = ("match", "soccer-percepts", "soccer-truth", "striker")
-_UNIT = {"match": "robot-frame", "striker": "step"}
+JOBS = ("match", "match-images", "soccer-percepts", "soccer-truth", "striker")
+_UNIT = {"match": "robot-frame", "match-images": "robot-frame", "striker": "step"}
 
 
 def _start(tree: Path, core: int, args: argparse.Namespace) -> subprocess.Popen[str]:
     env = {**os.environ, "PYTHONPATH": str(tree)}
     clock = "time.process_time" if args.mode == "same-core" else "time.perf_counter"
-    if args.job == "match":
-        code = _PLAY.format(seed=args.seed, half=args.half_seconds, clock=clock)
+    if args.job in ("match", "match-images"):
+        observation = "images" if args.job == "match-images" else "percepts"
+        code = _PLAY.format(seed=args.seed, half=args.half_seconds, clock=clock, observation=observation)
     else:
         code = _ENV.format(job=args.job, steps=args.steps, clock=clock)
     return subprocess.Popen(
