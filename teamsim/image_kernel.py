@@ -327,9 +327,8 @@ def _background(
     # pass 1: every row's floor columns [i0, i1], carpet [ca, cb] and texture samples (all the
     # texture reads at once: neighbouring rows read neighbouring texels, and the wall
     # texture of pass 2 does not evict them in between)
-    span = np.empty((H, 2), dtype=np.int64)
-    carpet = np.empty((H, 2))
-    samps = np.ones((H, nblk + 1), dtype=np.float32)
+    span, carpet = np.empty((H, 2), dtype=np.int64), np.empty((H, 2))
+    samps = np.empty((H, nblk + 1), dtype=np.float32)  # rows read only where written
     for j in range(H):
         v = j + 0.5
         rx, ry, rz = d0[0] + v * dv[0], d0[1] + v * dv[1], d0[2] + v * dv[2]
@@ -402,7 +401,8 @@ def _paint_row(cov, j, rows, edges, strips, circles, cam, d0, du, dv, sub, iv): 
     for f in range(rows.shape[0]):
         if j < rows[f, 0] or j > rows[f, 1]:
             continue
-        iv[:] = 0.0
+        for k in range(2 * SUBROWS):  # clear the intervals (cheaper than a 2-D slice fill)
+            iv[0, k], iv[1, k] = 0.0, 0.0
         for s in range(SUBROWS):
             if sub[4, s] == 0.0:
                 continue

@@ -171,6 +171,8 @@ def draw_robot(obs, occ, k, cam, d0, du, dv, m, fx, fy, cx, cy, W, H, col, img, 
     ox, oy, rad, h = occ[k, OC.X], occ[k, OC.Y], occ[k, OC.R], occ[k, OC.H]
     re = rad + 0.5 * math.hypot(ox - cam[0], oy - cam[1]) * inv_f + 1e-6  # with the AA fringe
     i0, i1, j0, j1 = box_pixels(ox - re, ox + re, oy - re, oy + re, 0.0, h, m, cam, fx, fy, cx, cy, W, H)
+    if i0 >= i1:  # not in view
+        return
     w = wedge(ox - cam[0], oy - cam[1], re)
     team = C.TEAM1 if obs[k, OBS.TEAM] > 0.5 else C.TEAM0
     standing = h >= 0.4
