@@ -24,7 +24,7 @@ from cognition.vision.circle import find_circle_nb, ring_bounds_nb, verify_circl
 from cognition.vision.ends import segments_on_ground_nb
 from cognition.vision.projection import ground_nb
 from cognition.vision.scanlines import line_points_nb
-from cognition.vision.segments import segments_nb
+from cognition.vision.segments import buckets_nb, segments_nb
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
@@ -95,22 +95,15 @@ def arcs_nb(
     out = np.zeros(n_seg, dtype=np.bool_)
     if radius <= 0.0:
         return out
-    # the points of each segment in increasing index (CSR: one pass instead of a search per
-    # segment), and scratch space for the largest segment
-    sizes = np.zeros(n_seg + 1, dtype=np.int64)
+    # the points of each segment in increasing index (one counting sort instead of a search per
+    # segment; unlabelled points go to an extra bucket), and scratch space for the largest segment
+    key = np.empty(labels.shape[0], dtype=np.int64)
     for k in range(labels.shape[0]):
-        if 0 <= labels[k] < n_seg:
-            sizes[labels[k] + 1] += 1
+        key[k] = labels[k] if 0 <= labels[k] < n_seg else n_seg
+    sizes, flat = buckets_nb(key, n_seg + 1)
     longest = 0
     for g in range(n_seg):
-        longest = max(longest, sizes[g + 1])
-        sizes[g + 1] += sizes[g]
-    flat = np.empty(sizes[n_seg], dtype=np.int64)
-    fill = sizes[:n_seg].copy()
-    for k in range(labels.shape[0]):
-        if 0 <= labels[k] < n_seg:
-            flat[fill[labels[k]]] = k
-            fill[labels[k]] += 1
+        longest = max(longest, sizes[g + 1] - sizes[g])
     m = np.zeros((3, 3))
     r = np.zeros(3)
     t_buf = np.empty(longest)

@@ -114,18 +114,14 @@ def _add(sums: NDArray[np.float64], x: float, y: float) -> None:  # pragma: no c
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def grid_nb(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  # pragma: no cover
-    """Bucket the points (columns 0, 1: their coordinates) into a gw x gh grid of ``cell``-sized
-    cells (CSR: start offsets per cell and the point order)."""
-    n = pts.shape[0]
-    count = np.zeros(gw * gh + 1, dtype=np.int64)
-    key = np.empty(n, dtype=np.int64)
+def buckets_nb(key: NDArray[np.int64], m: int) -> tuple:  # pragma: no cover - compiled
+    """Counting sort of ``key`` (N integers in [0, m)): the start offset of every key (m + 1,
+    CSR) and the indices 0..N-1 in key order, ascending within a key."""
+    n = key.shape[0]
+    count = np.zeros(m + 1, dtype=np.int64)
     for p in range(n):
-        gx = min(gw - 1, int(pts[p, 0] / cell))
-        gy = min(gh - 1, int(pts[p, 1] / cell))
-        key[p] = gy * gw + gx
         count[key[p] + 1] += 1
-    for c in range(gw * gh):
+    for c in range(m):
         count[c + 1] += count[c]
     order = np.empty(n, dtype=np.int64)
     fill = count[:-1].copy()
@@ -133,6 +129,19 @@ def grid_nb(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  
         order[fill[key[p]]] = p
         fill[key[p]] += 1
     return count, order
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def grid_nb(pts: NDArray[np.float64], cell: float, gw: int, gh: int) -> tuple:  # pragma: no cover
+    """Bucket the points (columns 0, 1: their coordinates) into a gw x gh grid of ``cell``-sized
+    cells (CSR: start offsets per cell and the point order, :func:`buckets_nb`)."""
+    n = pts.shape[0]
+    key = np.empty(n, dtype=np.int64)
+    for p in range(n):
+        gx = min(gw - 1, int(pts[p, 0] / cell))
+        gy = min(gh - 1, int(pts[p, 1] / cell))
+        key[p] = gy * gw + gx
+    return buckets_nb(key, gw * gh)
 
 
 @nb.njit(cache=True, inline="always")
