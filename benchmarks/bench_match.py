@@ -51,13 +51,16 @@ figure                                 meaning
 
 With several ``--particles`` counts every figure is named ``<obs>_p<count>_...`` instead, and the
 counts take turns seed by seed (seed 0 with each count, then seed 1, ...), so that the machine's
-changes of speed fall on all of them alike.
+changes of speed fall on all of them alike. ``--images ideal`` or ``harsh`` plays the match on
+images with that image-effects preset instead of ``default``, and names its figures
+``images_ideal_...`` or ``images_harsh_...``: ``ideal`` shows what the pixel path costs without
+effects.
 
 Usage: ``python -m benchmarks.bench_match [--observation percepts images none]
-[--localization maturing] [--particles N [N ...]] [--half-seconds 60] [--seeds 2] [--core 0] [--stages]
-[--json out.json]``. The issue figures: the default match on percepts and, for vision, the same
-match on images (bar: 5x real time). ``--particles`` plays the match with other particle
-counts, to weigh the filter's cost against its accuracy.
+[--localization maturing] [--images default] [--particles N [N ...]] [--half-seconds 60]
+[--seeds 2] [--core 0] [--stages] [--json out.json]``. The issue figures: the default match on
+percepts and, for vision, the same match on images (bar: 5x real time). ``--particles`` plays
+the match with other particle counts, to weigh the filter's cost against its accuracy.
 """
 
 from __future__ import annotations
@@ -176,16 +179,27 @@ def stage_timers() -> Iterator[dict[str, float]]:
 
 
 def play(
-    observation: str, half_seconds: float, seed: int, localization: str | None, particles: int | None = None
+    observation: str,
+    half_seconds: float,
+    seed: int,
+    localization: str | None,
+    particles: int | None = None,
+    images: str = "default",
 ) -> tuple[Match, float, float]:
     """One default 5 v 5 match (``particles``: the particle filter's count instead of the
-    default); returns it with its wall and CPU seconds of ``run``."""
+    default; ``images``: the image-effects preset on images); returns it with its wall and CPU
+    seconds of ``run``."""
     cognition = None
     if localization is not None:
         params = LocalizationParams() if particles is None else LocalizationParams(particles=particles)
         cognition = CognitionConfig(localization=localization, localization_params=params)
+    extra = {"images": images} if observation == "images" else {}
     config = MatchConfig(
-        seed=seed, observation=observation, cognition=cognition, referee=RefereeParams(half_seconds=half_seconds)
+        seed=seed,
+        observation=observation,
+        cognition=cognition,
+        referee=RefereeParams(half_seconds=half_seconds),
+        **extra,
     )
     match = Match(config)
     start, cpu = time.perf_counter(), time.process_time()
@@ -226,6 +240,10 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         "--particles", type=int, nargs="+", default=None,
         help="particle counts of the filter (default: the variant's, 300); several take turns seed by seed",
     )  # fmt: skip
+    parser.add_argument(
+        "--images", default="default", choices=["ideal", "default", "harsh"],
+        help="image-effects preset of the match on images (default: default)",
+    )  # fmt: skip
     parser.add_argument("--half-seconds", type=float, default=60.0, help="length of each half (s of game time)")
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--core", type=int, default=0, help="the CPU core to run on (-1: leave the affinity)")
@@ -241,17 +259,18 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
         loc = None if obs == "none" else args.localization
         runs = counts if loc is not None else [None]
         for n in runs:
-            play(obs, 1.0, 0, loc, n)  # load this mode's kernels (numba's cache) before timing
+            play(obs, 1.0, 0, loc, n, args.images)  # load this mode's kernels (numba's cache) before timing
         played: dict[int | None, list[tuple[Match, float, float]]] = {n: [] for n in runs}
         for seed in range(args.seeds):  # the counts take turns, seed by seed: they share the machine's moods
             for n in runs:
-                played[n].append(play(obs, args.half_seconds, seed, loc, n))
+                played[n].append(play(obs, args.half_seconds, seed, loc, n, args.images))
         for n in runs:
-            key = obs if len(runs) == 1 else f"{obs}_p{n}"
+            key = obs if obs != "images" or args.images == "default" else f"images_{args.images}"
+            key = key if len(runs) == 1 else f"{key}_p{n}"
             figures.update(_summarise(key, played[n]))
             if args.stages:
                 with stage_timers() as spent:
-                    match, w, _ = play(obs, args.half_seconds, 0, loc, n)
+                    match, w, _ = play(obs, args.half_seconds, 0, loc, n, args.images)
                 frames = match.frames * len(match.world.robots)
                 spent["other"] = w - sum(spent.values())
                 print(f"  per robot-frame (seed 0, timed run: {1e6 * w / frames:.0f} us)")
