@@ -8,6 +8,7 @@ import pytest
 
 from benchmarks import bench_match
 from cognition.representations import RobotPose
+from teamsim.image_params import ImageParams
 
 
 @pytest.mark.slow(seconds=7)
@@ -32,7 +33,7 @@ def _fake_match(n: int | None, seed: int) -> SimpleNamespace:
 def test_several_counts_take_turns_seed_by_seed(tmp_path, monkeypatch) -> None:
     calls: list[tuple[str, float, int, int | None]] = []
 
-    def fake_play(obs, half, seed, loc, particles=None):  # type: ignore[no-untyped-def]
+    def fake_play(obs, half, seed, loc, particles=None, images="default"):  # type: ignore[no-untyped-def]
         calls.append((obs, half, seed, particles))
         return _fake_match(particles, seed), 4.0 if particles == 300 else 2.0, 3.0
 
@@ -50,3 +51,37 @@ def test_several_counts_take_turns_seed_by_seed(tmp_path, monkeypatch) -> None:
     assert figures["percepts_p300_cpu_rtf"] == pytest.approx(20.0)
     assert figures["percepts_p150_position_error_m"] == pytest.approx(0.2)
     assert figures["percepts_p150_heading_error_deg"] == pytest.approx(2.0)
+
+
+def test_images_option_reaches_the_match_and_names_the_figures(monkeypatch) -> None:
+    presets: list[str] = []
+
+    def fake_play(obs, half, seed, loc, particles=None, images="default"):  # type: ignore[no-untyped-def]
+        if obs == "images":  # the world's warm-up plays on no observation
+            presets.append(images)
+        return _fake_match(particles, seed), 2.0, 3.0
+
+    monkeypatch.setattr(bench_match, "play", fake_play)
+    args = ["--observation", "images", "--seeds", "2", "--core", "-1", "--half-seconds", "5"]
+    figures = bench_match.main([*args, "--images", "ideal"])
+    assert presets == ["ideal"] * 3  # the warm-up run and both seeds
+    assert figures["images_ideal_rtf"] == pytest.approx(30.0) and "images_rtf" not in figures
+    presets.clear()
+    assert "images_rtf" in bench_match.main(args) and set(presets) == {"default"}
+
+
+def test_play_builds_the_match_with_the_preset(monkeypatch) -> None:
+    configs: list = []
+
+    class FakeMatch:
+        def __init__(self, config) -> None:  # type: ignore[no-untyped-def]
+            configs.append(config)
+
+        def run(self) -> None:
+            pass
+
+    monkeypatch.setattr(bench_match, "Match", FakeMatch)
+    bench_match.play("images", 1.0, 0, "maturing", images="harsh")
+    bench_match.play("percepts", 1.0, 0, "maturing", images="harsh")  # no images: the preset is not used
+    assert configs[0].images == ImageParams.preset("harsh") != ImageParams.preset("default")
+    assert configs[1].images == ImageParams.preset("default")
