@@ -22,6 +22,7 @@ from cognition.vision.ball import BallParams, detect_ball
 from cognition.vision.boundary import field_boundary
 from cognition.vision.colour import Colour, ColourClassifier
 from cognition.vision.robots import ObstacleParams, detect_robots
+from cognition.vision.vision import Vision, VisionParams
 from teamsim.images import ImageRenderer
 from teamsim.percepts import Scene, SceneRobot
 
@@ -277,6 +278,28 @@ def test_lines_posts_and_the_ball_are_no_robots() -> None:
     assert len(ann.posts) >= 1
     rows = detect_robots(classes, boundary, cam.as_row(), JERSEYS, 0, 0.14, ObstacleParams(), SIGMA, SIGMA)
     assert len(rows) == 0, rows[:, [Col.U, Col.V]]
+
+
+@pytest.mark.parametrize("method", ["dnt", "hough"])
+def test_penalty_marks_within_three_metres_are_found_by_both_line_methods(method: str) -> None:
+    """A mark's scanline points chain into a segment too short to be a line; with the DNT method
+    they were then no mark seed either, and a mark 1.6 m or farther away was missed."""
+    mx = FIELD.penalty_marks[1].x
+    found = poses = 0
+    for scheme in ("classic", "modern"):
+        vision = Vision(VisionParams(method=method), scheme=scheme)
+        for d in (1.2, 1.6, 2.0, 2.4, 2.8):
+            for y in (-0.3, 0.25):
+                observer = SceneRobot(0, 1, mx - d, y, 0.0, head_pitch=math.atan2(0.5, d) - 0.05)
+                img, cam, ann, _classes, _boundary = _render(scheme, [observer], None)
+                assert len(ann.marks) == 1
+                marks = vision.detect(img, cam).penalty_marks.xy
+                assert len(marks) <= 1  # the mark, never a second one
+                poses += 1
+                if len(marks):
+                    assert math.hypot(marks[0, 0] - d, marks[0, 1] + y) < 0.03  # the mark at (d, -y)
+                    found += 1
+    assert found >= 0.9 * poses, (found, poses)  # the DNT method found 4 of the 20 before
 
 
 # -- bad input and parameters ---------------------------------------------------------------

@@ -201,11 +201,11 @@ def dnt_lines_nb(
             if labels[k] >= 0:
                 labels[k] = remap[labels[k]] if keep[labels[k]] else -2
         seg = seg[keep]
-    seg_px, seg_ground, open_ends = segments_on_ground_nb(
+    seg_px, seg_ground, open_ends, kept = segments_on_ground_nb(
         cam, seg, classes, boundary, min_line_length, max_distance, probe
     )
-    loose = free.copy()
+    loose = free.copy()  # the points of no kept segment: those of a dropped one too (a mark chains into one)
     for k in range(idx.shape[0]):
-        if labels[k] >= 0 or labels[k] == -2:
+        if labels[k] == -2 or (labels[k] >= 0 and kept[labels[k]]):
             loose[idx[k]] = False
     return points, seg_px, seg_ground, open_ends, cx, cy, loose

@@ -93,10 +93,13 @@ def segments_on_ground_nb(
     min_length: float,
     max_distance: float,
     probe: int,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:  # pragma: no cover - compiled
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:  # pragma: no cover
     """The kept segments: image end points (S x 4, extended along the white), ground end points
-    (S x 4, robot frame, m) and open ends (S x 2); ``seg`` is S x >=4 pixels (u1, v1, u2, v2)."""
+    (S x 4, robot frame, m) and open ends (S x 2); ``seg`` is N x >=4 pixels (u1, v1, u2, v2),
+    and the last array (N) says which of them were kept (the others are off the ground, beyond
+    ``max_distance`` or shorter than ``min_length`` on the ground)."""
     n = seg.shape[0]
+    kept = np.zeros(n, dtype=np.bool_)
     px = np.empty((n, 4))
     ground = np.empty((n, 4))
     open_ends = np.zeros((n, 2), dtype=np.bool_)
@@ -136,5 +139,6 @@ def segments_on_ground_nb(
             du, dv = (u2 - u1) / length, (v2 - v1) / length
             open_ends[m, 0] = far1 or _is_open(classes, boundary, u1, v1, -du, -dv, probe)
             open_ends[m, 1] = far2 or _is_open(classes, boundary, u2, v2, du, dv, probe)
+        kept[k] = True
         m += 1
-    return px[:m], ground[:m], open_ends[:m]
+    return px[:m], ground[:m], open_ends[:m], kept

@@ -477,7 +477,7 @@ def _hough_nb(
                 found += 1
     # ends: followed along the white and classed (the DNT rules); a segment that the white leads
     # beyond max_distance is cut there (that end open) rather than dropped
-    seg_px, seg_ground, open_ends = segments_on_ground_nb(
+    seg_px, seg_ground, open_ends, _ = segments_on_ground_nb(
         cam, seg[:n_seg], classes, boundary, min_line_length, 1e6, probe
     )
     seg_px, seg_ground, open_ends = _clip(seg_px, seg_ground, open_ends, cam, max_distance, min_line_length)
