@@ -182,7 +182,7 @@ def dnt_lines_nb(
     (px) along image rows and columns. Returns ``(points, seg_px, seg_ground,
     open_ends, cx, cy, loose)``: line points K x 4 (u, v, run, direction), segments in the
     image and on the ground (S x 4), open ends (S x 2), the circle's centre (NaN if none) and
-    which points lie neither on the circle nor in a segment (penalty-mark seeds).
+    which points lie neither on the circle nor in a kept segment (penalty-mark seeds).
     """
     points = line_points_nb(classes, boundary, cam, step, line_width, edge_gap, blur_u, blur_v)
     ground, valid = ground_points_nb(cam, points, max_distance)

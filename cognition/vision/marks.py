@@ -2,13 +2,15 @@
 
 Neither DNT nor NimbRo detect the penalty mark (their fields had none that mattered); this
 follows the same colour-and-geometry reasoning as their other detectors. Every line point
-that ended up in no line segment and not on the centre circle seeds a blob: the white
-pixels around it within a window twice the size a mark has at that distance (from the
-camera matrix). The blob is a mark when its ground size is within ``size_tolerance`` of the
-field's mark size in both directions, when the ring of pixels just outside it is mostly
-green (a mark lies on open carpet; a line, a robot or the ball touches other colours), when
-it holds no black (the modern ball's patches) and when it is at least ``min_px`` pixels tall
-and wide (fragments of far lines are smaller). Pixels: ``u`` right, ``v`` down.
+that ended up on no kept line segment and not on the centre circle seeds a blob (with the
+DNT method also the points of a chained segment dropped as shorter than a line: a mark's own
+points chain into one): the white pixels around it within a window twice the size a mark has
+at that distance (from the camera matrix). The blob is a mark when its ground size is within
+``size_tolerance`` of the field's mark size in both directions, when the ring of pixels just
+outside it is mostly green (a mark lies on open carpet; a line, a robot or the ball touches
+other colours), when it holds no black (the modern ball's patches) and when it is at least
+``min_px`` pixels tall and wide (fragments of far lines are smaller). Pixels: ``u`` right,
+``v`` down.
 """
 
 from __future__ import annotations
