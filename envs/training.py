@@ -514,6 +514,8 @@ def train(
             if not user_params:
                 raise
             raise ValueError(f"hyperparams {sorted(user_params)}: {algo} rejects them: {exc}") from exc
+    if tb is None:  # SB3's own logger would make an empty SB3-<time> directory in the system's temp dir
+        model.set_logger(_console_logger(verbose))
     remaining = timesteps - model.num_timesteps
     callback = CheckpointCallback(
         save_freq=max(1, checkpoint_every // slots), save_path=str(out / "checkpoints"), name_prefix=algo
@@ -564,6 +566,16 @@ def set_torch_threads(threads: int | None) -> None:
         import torch
 
         torch.set_num_threads(threads)
+
+
+def _console_logger(verbose: int) -> Any:
+    """An SB3 logger that writes no files: the training table to stdout when ``verbose`` >= 1,
+    else nothing (what SB3 logs without tensorboard, minus the directory it makes for that)."""
+    import sys
+
+    from stable_baselines3.common.logger import HumanOutputFormat, Logger
+
+    return Logger(folder=None, output_formats=[HumanOutputFormat(sys.stdout)] if verbose >= 1 else [])
 
 
 def _tensorboard_available() -> bool:

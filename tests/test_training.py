@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import tempfile
 import warnings
 from pathlib import Path
 
@@ -12,6 +13,7 @@ import pytest
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.env_checker import check_env
+from stable_baselines3.common.logger import Logger
 
 import envs  # noqa: F401  (registers the Gymnasium ids)
 from envs.evaluation import evaluate
@@ -45,6 +47,7 @@ def test_soccer_parameter_sharing_one_policy_for_all_agents() -> None:
     venv = make_vec_env("soccer_v0", 2, 0, {**SMALL_SOCCER, "max_cycles": 32}, None)
     assert venv.num_envs == 4  # 2 agents x 2 matches -> 4 slots of one vector env
     model = PPO("MlpPolicy", venv, seed=0, device="cpu", **TINY_PPO)
+    model.set_logger(Logger(folder=None, output_formats=[]))  # SB3's default makes a directory in /tmp
     model.learn(512)  # two rollouts of 64 steps x 4 slots
     assert model.num_timesteps == 512
     # 512 / 4 slots = 128 decisions per agent: every agent finished four 32-decision matches
@@ -112,6 +115,21 @@ def test_train_writes_config_checkpoints_model_and_resumes(tmp_path: Path) -> No
     a2c = {**kw, "hyperparams": {"n_steps": 64}}  # valid for a2c: the resume check is what refuses
     with pytest.raises(ValueError, match="cannot resume: algo"):
         train("teamsim/Striker-v0", algo="a2c", timesteps=512, out_dir=out, resume=True, **a2c)
+
+
+def test_train_without_tensorboard_writes_only_into_its_out_dir(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    system_tmp = tmp_path / "system-tmp"
+    system_tmp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(system_tmp))  # where SB3's own logger makes SB3-<time>
+    monkeypatch.setattr("envs.training._tensorboard_available", lambda: False)
+    kw = {"env_kwargs": SHORT_STRIKER, "n_envs": 2, "hyperparams": TINY_PPO, "progress_bar": False}
+    train("teamsim/Striker-v0", timesteps=128, out_dir=tmp_path / "run", verbose=1, **kw)
+    assert [p.name for p in system_tmp.iterdir() if p.name.startswith("SB3-")] == []  # torch may cache there
+    written = sorted(p.name for p in (tmp_path / "run").iterdir())
+    assert written == ["checkpoints", "config.json", "model.zip", "monitor"]
+    assert "total_timesteps" in capsys.readouterr().out  # verbose=1 still prints SB3's training table
 
 
 def test_train_is_deterministic_for_a_seed(tmp_path: Path) -> None:
