@@ -22,7 +22,8 @@ marks          P x 2            penalty marks
 poles          Q x 2            corner poles (KidSize)
 cross_grid     3 x GY x GX      nearest crossing index per kind (-1: no crossing of the kind)
 line_grid      2 x GY x GX      nearest line index per orientation class (-1: none)
-geo            8                grid x0, y0, cell, GX, GY, circle radius, half length, half width
+geo            10               grid x0, y0, cell, GX, GY, circle radius, half length, half width,
+                                and of the carpet (the field plus its border strip): half length, half width
 =============  ===============  ==============================================================
 """
 
@@ -75,7 +76,8 @@ class FieldModel:
         x0, y0 = -hl - MARGIN, -hw - MARGIN
         gx = math.ceil((2 * hl + 2 * MARGIN) / CELL)
         gy = math.ceil((2 * hw + 2 * MARGIN) / CELL)
-        self.geo = np.array([x0, y0, CELL, gx, gy, field.centre_circle.radius, hl, hw])
+        border = field.dims.border_strip
+        self.geo = np.array([x0, y0, CELL, gx, gy, field.centre_circle.radius, hl, hw, hl + border, hw + border])
         cx = x0 + (np.arange(gx) + 0.5) * CELL
         cy = y0 + (np.arange(gy) + 0.5) * CELL
         px, py = np.meshgrid(cx, cy)

@@ -165,8 +165,9 @@ def away_from_mirror_nb(poses, rows, x, y):  # pragma: no cover - compiled
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def _inject_nb(
-    parts, slots, m, source, obs, x, y, own_half, kn, posts, crossings, marks, poles, cand, ages, advantage, nc, state
-):  # pragma: no cover - compiled
+    parts, slots, m, source, obs, x, y, own_half, kn, posts, crossings, marks, poles, geo, cand, ages, advantage, nc,
+    state,
+):  # fmt: skip  # pragma: no cover - compiled
     """The strategy's injection into ``parts[slots[:m]]``; returns how many poses it wrote."""
     if source == 1:  # AMCL: uniform poses (mirrored pairs, or the own half)
         fresh = np.empty((m, 3))
@@ -175,7 +176,7 @@ def _inject_nb(
             parts[slots[i], 0], parts[slots[i], 1], parts[slots[i], 2] = fresh[i, 0], fresh[i, 1], fresh[i, 2]
         return m
     if source == 2:  # sensor resetting: poses from vision
-        fresh = _from_vision_nb(posts, crossings, marks, poles, obs, m, kn[C_ANY_FEATURE] > 0.5, state)
+        fresh = _from_vision_nb(posts, crossings, marks, poles, obs, m, kn[C_ANY_FEATURE] > 0.5, geo, state)
         got = fresh.shape[0]
         away_from_mirror_nb(fresh, np.arange(got), x, y)
         for i in range(got):
@@ -269,7 +270,7 @@ def frame_step_nb(
         return x, y, th, spread, k, share, n_new, False
     _, relocalize = resample_step_nb(
         parts, n, w, logw, spare, n_new, 0, slots, state, kn, obs, x, y, own_half, posts, crossings, marks, poles,
-        watch, averages, cand, ages, advantage, in_use,
+        geo, watch, averages, cand, ages, advantage, in_use,
     )  # fmt: skip
     return x, y, th, spread, k, 0.0, n_new, relocalize
 
@@ -277,7 +278,7 @@ def frame_step_nb(
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def resample_step_nb(
     parts, n, w, logw, spare, n_new, m_inj, slots, state, kn, obs, x, y, own_half, posts, crossings, marks, poles,
-    watch, averages, cand, ages, advantage, in_use,
+    geo, watch, averages, cand, ages, advantage, in_use,
 ):  # fmt: skip  # pragma: no cover - compiled
     """The resampling of :func:`frame_step_nb`: draw ``n_new`` particles into ``spare``, inject
     ``m_inj`` poses from the strategy's source, restart the AMCL averages after an injection,
@@ -289,7 +290,7 @@ def resample_step_nb(
     injected = 0
     if m_inj > 0:
         injected = _inject_nb(
-            spare, slots, m_inj, int(kn[C_SOURCE]), obs, x, y, own_half, kn, posts, crossings, marks, poles,
+            spare, slots, m_inj, int(kn[C_SOURCE]), obs, x, y, own_half, kn, posts, crossings, marks, poles, geo,
             cand, ages, advantage, in_use[0], state,
         )  # fmt: skip
         if injected:  # Injection.restart

@@ -137,7 +137,7 @@ def mature_nb(
     cap = cand.shape[0]
     room = cap - nc
     if room >= max(1, cap // 4):  # refill in batches, not every frame
-        fresh = _from_vision_nb(posts, crossings, marks, poles, obs, room, True, state)
+        fresh = _from_vision_nb(posts, crossings, marks, poles, obs, room, True, geo, state)
         for i in range(fresh.shape[0]):
             cand[nc, 0], cand[nc, 1], cand[nc, 2] = fresh[i, 0], fresh[i, 1], fresh[i, 2]
             count[nc] = 0

@@ -402,8 +402,8 @@ class ParticleFilter(Localizer):
             posts, crossings, _, marks, poles = self.maps[:5]
             self.injected, relocalize = resample_step_nb(
                 parts, n, self.w, self.logw, spare, n_new, m_inj, self._slots, self.kernel_state, self._knobs,
-                packed[:k], x, y, self._own_half, posts, crossings, marks, poles, self._watch_state, averages, cand,
-                ages, advantage, in_use,
+                packed[:k], x, y, self._own_half, posts, crossings, marks, poles, self.maps[7], self._watch_state,
+                averages, cand, ages, advantage, in_use,
             )  # fmt: skip
         if share >= 0.0:  # resampled: the new set is in the spare buffer
             self.parts, self._spare = spare, parts

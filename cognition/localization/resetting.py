@@ -10,6 +10,13 @@
   landmark of the feature's type (crossing of the same kind, penalty mark, centre circle,
   corner pole).
 
+Every pose lies on the carpet (the field and its border strip, ``FieldModel.geo[8:10]``); a
+sample that falls off it is dropped, so fewer than asked may come back (not in the papers). A
+circle of the measured distance around a far landmark reaches well beyond the goal lines: poses
+behind the goals, where no robot can stand, explained a robot's few lines and one crossing as
+well as its true pose and became ``maturing`` candidates that took accurate estimates away
+(5 v 5 image matches, whose vision finds penalty marks up to 3 m away).
+
 The injection strategy :class:`SensorResetting` (variant ``reset``) puts these poses into the
 particle filter: the AMCL share (:mod:`.amcl`), at least ``reset_probability`` while lost, and a
 particle count that adapts to the evidence.
@@ -102,27 +109,37 @@ def _landmarks(posts, crossings, marks, poles, ob):  # pragma: no cover - compil
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def _around_feature_nb(posts, crossings, marks, poles, ob, m, state):  # pragma: no cover - compiled
+def _on_carpet(x, y, geo):  # pragma: no cover - compiled
+    """Whether the point (x, y) (m, team frame) lies on the carpet (``geo[8]``, ``geo[9]``: its half extents)."""
+    return abs(x) <= geo[8] and abs(y) <= geo[9]
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def _around_feature_nb(posts, crossings, marks, poles, ob, m, geo, state):  # pragma: no cover - compiled
     """See :func:`around_feature`."""
     lm = _landmarks(posts, crossings, marks, poles, ob)
     if lm.shape[0] == 0 or m <= 0:
         return np.zeros((0, 3))
     out = np.empty((m, 3))
     n_lm = lm.shape[0]
-    for k in range(m):
+    k = 0
+    for _ in range(m):
         pick = rand_index(state, n_lm)
         d = max(ob[_DIST] + ob[_SR] * rand_n(state), 0.05)
         bear = ob[_BEAR] + ob[_SB] * rand_n(state)
         phi = -math.pi + 2.0 * math.pi * rand_u(state)
         c, s = math.cos(phi), math.sin(phi)
-        out[k, 0] = lm[pick, 0] + d * c
-        out[k, 1] = lm[pick, 1] + d * s
+        px, py = lm[pick, 0] + d * c, lm[pick, 1] + d * s
+        if not _on_carpet(px, py, geo):
+            continue
+        out[k, 0], out[k, 1] = px, py
         out[k, 2] = (math.atan2(-s, -c) - bear + math.pi) % (2 * math.pi) - math.pi
-    return out
+        k += 1
+    return out[:k]
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def _two_posts_nb(posts, a, b, m, state):  # pragma: no cover - compiled
+def _two_posts_nb(posts, a, b, m, geo, state):  # pragma: no cover - compiled
     """See :func:`from_two_posts`."""
     ca, cb = _post_candidates(posts, a), _post_candidates(posts, b)
     pairs = np.empty((ca.shape[0] * cb.shape[0], 2), dtype=np.int64)
@@ -156,7 +173,7 @@ def _two_posts_nb(posts, a, b, m, state):  # pragma: no cover - compiled
         for sgn in (1.0, -1.0):
             px, py = bx + sgn * h * ex, by + sgn * h * ey
             e1x, e1y, e2x, e2y = p1x - px, p1y - py, p2x - px, p2y - py
-            if math.copysign(1.0, e1x * e2y - e1y * e2x) != order:
+            if math.copysign(1.0, e1x * e2y - e1y * e2x) != order or not _on_carpet(px, py, geo):
                 continue
             bear = a[_BEAR] + a[_SB] * rand_n(state)
             th = math.atan2(e1y, e1x) - bear
@@ -168,7 +185,7 @@ def _two_posts_nb(posts, a, b, m, state):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def _from_vision_nb(posts, crossings, marks, poles, obs, m, any_feature, state):  # pragma: no cover - compiled
+def _from_vision_nb(posts, crossings, marks, poles, obs, m, any_feature, geo, state):  # pragma: no cover - compiled
     """See :func:`from_vision`."""
     if m <= 0 or obs.shape[0] == 0:
         return np.zeros((0, 3))
@@ -184,17 +201,17 @@ def _from_vision_nb(posts, crossings, marks, poles, obs, m, any_feature, state):
         if t != _LINE:
             n_usable += 1
     if n_posts >= 2:
-        got = _two_posts_nb(posts, obs[first], obs[second], m, state)
+        got = _two_posts_nb(posts, obs[first], obs[second], m, geo, state)
         if got.shape[0]:
             return got
     if n_posts >= 1:
-        return _around_feature_nb(posts, crossings, marks, poles, obs[first], m, state)
+        return _around_feature_nb(posts, crossings, marks, poles, obs[first], m, geo, state)
     if any_feature and n_usable:
         pick = rand_index(state, n_usable)
         for r in range(obs.shape[0]):
             if obs[r, _TYPE] != _LINE:
                 if pick == 0:
-                    return _around_feature_nb(posts, crossings, marks, poles, obs[r], m, state)
+                    return _around_feature_nb(posts, crossings, marks, poles, obs[r], m, geo, state)
                 pick -= 1
     return np.zeros((0, 3))
 
@@ -202,16 +219,18 @@ def _from_vision_nb(posts, crossings, marks, poles, obs, m, any_feature, state):
 def around_feature(
     model: FieldModel, ob: NDArray[np.float64], m: int, state: NDArray[np.uint64]
 ) -> NDArray[np.float64]:
-    """``m`` poses (m x 3) on circles of the measured distance around the landmarks ``ob`` may be
-    (``state``: the filter's xorshift64* state, advanced)."""
-    return _around_feature_nb(model.posts, model.crossings, model.marks, model.poles, _row(ob), int(m), state)
+    """Up to ``m`` poses (k x 3) on circles of the measured distance around the landmarks ``ob`` may
+    be, those off the carpet dropped (``state``: the filter's xorshift64* state, advanced)."""
+    return _around_feature_nb(
+        model.posts, model.crossings, model.marks, model.poles, _row(ob), int(m), model.geo, state
+    )
 
 
 def from_two_posts(
     model: FieldModel, a: NDArray[np.float64], b: NDArray[np.float64], m: int, state: NDArray[np.uint64]
 ) -> NDArray[np.float64]:
     """Up to ``m`` poses (k x 3) from two post observations ``a``, ``b`` (circle intersections)."""
-    return _two_posts_nb(model.posts, _row(a), _row(b), int(m), state)
+    return _two_posts_nb(model.posts, _row(a), _row(b), int(m), model.geo, state)
 
 
 def from_vision(
@@ -221,7 +240,7 @@ def from_vision(
     feature when ``any_feature``); ``obs``: observation rows (:func:`sensor.pack_observations`)."""
     rows = np.ascontiguousarray(obs, dtype=np.float64)
     return _from_vision_nb(
-        model.posts, model.crossings, model.marks, model.poles, rows, int(m), bool(any_feature), state
+        model.posts, model.crossings, model.marks, model.poles, rows, int(m), bool(any_feature), model.geo, state
     )
 
 
