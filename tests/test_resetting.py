@@ -63,14 +63,17 @@ def ref_around(model: FieldModel, ob: NDArray[np.float64], m: int, state: NDArra
         phi = -math.pi + 2.0 * math.pi * rand_u(state)
         th = math.atan2(-math.sin(phi), -math.cos(phi)) - bear
         x, y = pick[0] + d * math.cos(phi), pick[1] + d * math.sin(phi)
-        if _on_carpet(model, x, y):
+        if _standable(model, x, y):
             out.append((x, y, (th + math.pi) % (2 * math.pi) - math.pi))
     return np.array(out).reshape(-1, 3)
 
 
-def _on_carpet(model: FieldModel, x: float, y: float) -> bool:
+def _standable(model: FieldModel, x: float, y: float) -> bool:
     dims = make_field("spl2025").dims
-    return abs(x) <= model.geo[6] + dims.border_strip and abs(y) <= model.geo[7] + dims.border_strip
+    hl, hw = model.geo[6], model.geo[7]
+    on_carpet = abs(x) <= hl + dims.border_strip and abs(y) <= hw + dims.border_strip
+    in_goal = hl < abs(x) < hl + dims.goal_depth and abs(y) < dims.goal_inner_width / 2 + dims.goal_post_diameter
+    return on_carpet and not in_goal
 
 
 def ref_two_posts(
@@ -105,7 +108,7 @@ def ref_two_posts(
         for sgn in (1.0, -1.0):
             p = base + sgn * h * perp
             e1, e2 = p1 - p, p2 - p
-            if math.copysign(1.0, e1[0] * e2[1] - e1[1] * e2[0]) != order or not _on_carpet(model, p[0], p[1]):
+            if math.copysign(1.0, e1[0] * e2[1] - e1[1] * e2[0]) != order or not _standable(model, p[0], p[1]):
                 continue
             bear = a[O.BEAR] + a[O.SB] * rand_n(state)
             th = math.atan2(e1[1], e1[0]) - bear
@@ -199,25 +202,34 @@ def test_from_vision_matches_the_plain_reference_draw_for_draw(model: FieldModel
     assert {(0, True), (1, True), (2, True)} <= kinds, kinds  # every branch was taken
 
 
-def test_poses_from_vision_lie_on_the_carpet(model: FieldModel) -> None:
+def _where_no_robot_stands(poses: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Off the spl2025 carpet (5.2 x 3.7 m half extents) or inside a goal (0.5 m deep, posts' outer
+    sides 0.85 m from the axis)."""
+    ax, ay = np.abs(poses[:, 0]), np.abs(poses[:, 1])
+    return (ax > 5.2) | (ay > 3.7) | ((ax > 4.5) & (ax < 5.0) & (ay < 0.85))
+
+
+def test_poses_from_vision_are_where_a_robot_can_stand(model: FieldModel) -> None:
     """A penalty mark seen 3 m away puts the robot on a circle that reaches 1.7 m behind the goal
-    line (spl2025: mark 1.3 m in front of it, a 0.7 m border strip): those samples are dropped,
-    the ones on the carpet kept at the measured distance, and no sampler returns a pose off it."""
+    line (spl2025: mark 1.3 m in front of it, a 0.7 m border strip) and through the goal: those
+    samples are dropped, the others kept at the measured distance, and no sampler returns one."""
     row = np.zeros(N_O)
     row[O.TYPE], row[O.X], row[O.DIST] = T.MARK, 3.0, 3.0
     poses = around_feature(model, row, 2000, np.array([5], dtype=np.uint64))
-    carpet_x, carpet_y = model.geo[8], model.geo[9]
-    assert (carpet_x, carpet_y) == (4.5 + 0.7, 3.0 + 0.7)
-    assert 1000 < poses.shape[0] < 2000  # roughly the arcs behind both goal lines and beyond the touchlines are gone
-    assert np.all(np.abs(poses[:, 0]) <= carpet_x) and np.all(np.abs(poses[:, 1]) <= carpet_y)
+    assert 1000 < poses.shape[0] < 2000  # the arcs behind the goal lines and beyond the touchlines are gone
+    assert not _where_no_robot_stands(poses).any()
     marks = model.marks
     d = np.min(np.hypot(poses[:, None, 0] - marks[None, :, 0], poses[:, None, 1] - marks[None, :, 1]), axis=1)
     np.testing.assert_allclose(d, 3.0, atol=1e-9)
+    # 1.7 m: the circle stays on the carpet but runs through the goal, where |phi| < 30 degrees: 1/6 is dropped
+    row[O.DIST] = 1.7
+    poses = around_feature(model, row, 2000, np.array([6], dtype=np.uint64))
+    assert 1600 < poses.shape[0] < 1740 and not _where_no_robot_stands(poses).any()
     g = np.random.default_rng(7)
     for _ in range(300):
         obs = _observe(model, g)
         got = from_vision(model, obs, 40, True, np.array([int(g.integers(1, 2**63 - 1))], dtype=np.uint64))
-        assert np.all(np.abs(got[:, 0]) <= carpet_x) and np.all(np.abs(got[:, 1]) <= carpet_y)
+        assert not _where_no_robot_stands(got).any()
 
 
 def test_two_posts_put_the_robot_where_both_distances_hold(model: FieldModel) -> None:

@@ -22,8 +22,9 @@ marks          P x 2            penalty marks
 poles          Q x 2            corner poles (KidSize)
 cross_grid     3 x GY x GX      nearest crossing index per kind (-1: no crossing of the kind)
 line_grid      2 x GY x GX      nearest line index per orientation class (-1: none)
-geo            10               grid x0, y0, cell, GX, GY, circle radius, half length, half width,
-                                and of the carpet (the field plus its border strip): half length, half width
+geo            12               grid x0, y0, cell, GX, GY, circle radius, half length, half width,
+                                the carpet's (the field plus its border strip) half length and half
+                                width, a goal's half width to the posts' outer sides and its depth
 =============  ===============  ==============================================================
 """
 
@@ -76,8 +77,10 @@ class FieldModel:
         x0, y0 = -hl - MARGIN, -hw - MARGIN
         gx = math.ceil((2 * hl + 2 * MARGIN) / CELL)
         gy = math.ceil((2 * hw + 2 * MARGIN) / CELL)
-        border = field.dims.border_strip
-        self.geo = np.array([x0, y0, CELL, gx, gy, field.centre_circle.radius, hl, hw, hl + border, hw + border])
+        d = field.dims
+        carpet = (hl + d.border_strip, hw + d.border_strip)
+        goal = (0.5 * d.goal_inner_width + d.goal_post_diameter, d.goal_depth)
+        self.geo = np.array([x0, y0, CELL, gx, gy, field.centre_circle.radius, hl, hw, *carpet, *goal])
         cx = x0 + (np.arange(gx) + 0.5) * CELL
         cy = y0 + (np.arange(gy) + 0.5) * CELL
         px, py = np.meshgrid(cx, cy)

@@ -10,12 +10,12 @@
   landmark of the feature's type (crossing of the same kind, penalty mark, centre circle,
   corner pole).
 
-Every pose lies on the carpet (the field and its border strip, ``FieldModel.geo[8:10]``); a
-sample that falls off it is dropped, so fewer than asked may come back (not in the papers). A
-circle of the measured distance around a far landmark reaches well beyond the goal lines: poses
-behind the goals, where no robot can stand, explained a robot's few lines and one crossing as
-well as its true pose and became ``maturing`` candidates that took accurate estimates away
-(5 v 5 image matches, whose vision finds penalty marks up to 3 m away).
+Every pose is one a robot can stand at: on the carpet (the field and its border strip) and not
+inside a goal (``FieldModel.geo[8:12]``); a sample elsewhere is dropped, so fewer than asked may
+come back (not in the papers). A circle of the measured distance around a far landmark reaches
+well beyond the goal lines: poses behind the goals explained a robot's few lines and one
+crossing as well as its true pose and became ``maturing`` candidates that took accurate
+estimates away (5 v 5 image matches, whose vision finds penalty marks up to 3 m away).
 
 The injection strategy :class:`SensorResetting` (variant ``reset``) puts these poses into the
 particle filter: the AMCL share (:mod:`.amcl`), at least ``reset_probability`` while lost, and a
@@ -109,9 +109,13 @@ def _landmarks(posts, crossings, marks, poles, ob):  # pragma: no cover - compil
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def _on_carpet(x, y, geo):  # pragma: no cover - compiled
-    """Whether the point (x, y) (m, team frame) lies on the carpet (``geo[8]``, ``geo[9]``: its half extents)."""
-    return abs(x) <= geo[8] and abs(y) <= geo[9]
+def _standable(x, y, geo):  # pragma: no cover - compiled
+    """Whether a robot can stand at (x, y) (m, team frame): on the carpet (``geo[8]``, ``geo[9]``:
+    its half extents) and not inside a goal (``geo[10]``: half width to the posts' outer sides,
+    ``geo[11]``: depth behind the goal line at ``geo[6]``)."""
+    ax = abs(x)
+    in_goal = geo[6] < ax < geo[6] + geo[11] and abs(y) < geo[10]
+    return ax <= geo[8] and abs(y) <= geo[9] and not in_goal
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
@@ -130,7 +134,7 @@ def _around_feature_nb(posts, crossings, marks, poles, ob, m, geo, state):  # pr
         phi = -math.pi + 2.0 * math.pi * rand_u(state)
         c, s = math.cos(phi), math.sin(phi)
         px, py = lm[pick, 0] + d * c, lm[pick, 1] + d * s
-        if not _on_carpet(px, py, geo):
+        if not _standable(px, py, geo):
             continue
         out[k, 0], out[k, 1] = px, py
         out[k, 2] = (math.atan2(-s, -c) - bear + math.pi) % (2 * math.pi) - math.pi
@@ -173,7 +177,7 @@ def _two_posts_nb(posts, a, b, m, geo, state):  # pragma: no cover - compiled
         for sgn in (1.0, -1.0):
             px, py = bx + sgn * h * ex, by + sgn * h * ey
             e1x, e1y, e2x, e2y = p1x - px, p1y - py, p2x - px, p2y - py
-            if math.copysign(1.0, e1x * e2y - e1y * e2x) != order or not _on_carpet(px, py, geo):
+            if math.copysign(1.0, e1x * e2y - e1y * e2x) != order or not _standable(px, py, geo):
                 continue
             bear = a[_BEAR] + a[_SB] * rand_n(state)
             th = math.atan2(e1y, e1x) - bear
@@ -220,7 +224,8 @@ def around_feature(
     model: FieldModel, ob: NDArray[np.float64], m: int, state: NDArray[np.uint64]
 ) -> NDArray[np.float64]:
     """Up to ``m`` poses (k x 3) on circles of the measured distance around the landmarks ``ob`` may
-    be, those off the carpet dropped (``state``: the filter's xorshift64* state, advanced)."""
+    be, those where no robot can stand (off the carpet, inside a goal) dropped (``state``: the
+    filter's xorshift64* state, advanced)."""
     return _around_feature_nb(
         model.posts, model.crossings, model.marks, model.poles, _row(ob), int(m), model.geo, state
     )
