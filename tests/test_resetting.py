@@ -68,11 +68,13 @@ def ref_around(model: FieldModel, ob: NDArray[np.float64], m: int, state: NDArra
     return np.array(out).reshape(-1, 3)
 
 
+SPL = make_field("spl2025").dims
+
+
 def _standable(model: FieldModel, x: float, y: float) -> bool:
-    dims = make_field("spl2025").dims
     hl, hw = model.geo[6], model.geo[7]
-    on_carpet = abs(x) <= hl + dims.border_strip and abs(y) <= hw + dims.border_strip
-    in_goal = hl < abs(x) < hl + dims.goal_depth and abs(y) < dims.goal_inner_width / 2 + dims.goal_post_diameter
+    on_carpet = abs(x) <= hl + SPL.border_strip and abs(y) <= hw + SPL.border_strip
+    in_goal = hl < abs(x) < hl + SPL.goal_depth and abs(y) < SPL.goal_inner_width / 2 + SPL.goal_post_diameter
     return on_carpet and not in_goal
 
 

@@ -234,7 +234,9 @@ def around_feature(
 def from_two_posts(
     model: FieldModel, a: NDArray[np.float64], b: NDArray[np.float64], m: int, state: NDArray[np.uint64]
 ) -> NDArray[np.float64]:
-    """Up to ``m`` poses (k x 3) from two post observations ``a``, ``b`` (circle intersections)."""
+    """Up to ``m`` poses (k x 3) from two post observations ``a``, ``b`` (circle intersections),
+    none where no robot can stand; none at all when the circles meet only there (then
+    :func:`from_vision` falls back to the first post alone, as when they do not meet)."""
     return _two_posts_nb(model.posts, _row(a), _row(b), int(m), model.geo, state)
 
 
