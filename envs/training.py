@@ -90,10 +90,13 @@ import re
 import shutil
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import gymnasium
 import numpy as np
+
+if TYPE_CHECKING:  # SB3 is an optional extra, imported where it is used
+    from stable_baselines3.common.logger import Logger
 
 ENV_IDS: tuple[str, ...] = ("teamsim/Striker-v0", "teamsim/Keeper-v0", "soccer_v0")
 """Environments :func:`train` and :func:`envs.evaluation.evaluate` know."""
@@ -568,7 +571,7 @@ def set_torch_threads(threads: int | None) -> None:
         torch.set_num_threads(threads)
 
 
-def _console_logger(verbose: int) -> Any:
+def _console_logger(verbose: int) -> Logger:
     """An SB3 logger that writes no files: the training table to stdout when ``verbose`` >= 1,
     else nothing (what SB3 logs without tensorboard, minus the directory it makes for that)."""
     import sys
