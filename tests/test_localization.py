@@ -311,18 +311,60 @@ def test_matured_injection_needs_the_margin():
 
 
 def test_mirror_guard_keeps_poses_beside_an_estimate_near_the_centre():
-    """Near the centre spot the estimate and its mirror image are close: a pose beside the
-    estimate lies within ``MIRROR_RADIUS`` of both and must stay; a pose nearer the mirror
-    image is mirrored onto the estimate's side."""
-    from cognition.localization.frame_step import MIRROR_RADIUS, away_from_mirror_nb
+    """Near the centre spot the estimate and its mirror image are close in position, so the
+    guard compares whole poses (heading at ``MIRROR_HEADING_SCALE`` m/rad). A pose beside the
+    estimate facing its way stays, and so does one at the mirror image's position facing the
+    estimate's way (a guard by position alone turned it into a pose beside the estimate facing
+    the other way: a robot at kickoff flipped by 180 degrees). A pose beside the estimate but
+    turned by 180 degrees, and a pose at the mirror image itself, are mirrored onto the
+    estimate's side."""
+    from cognition.localization.frame_step import away_from_mirror_nb
 
-    x, y = 0.5, -0.2  # the mirror image (-0.5, 0.2) is 1.08 m away
-    poses = np.array([[0.6, -0.1, 0.3], [-0.55, 0.25, 1.0], [3.0, 1.0, 0.0]])
-    assert math.hypot(poses[0, 0] + x, poses[0, 1] + y) < MIRROR_RADIUS
-    away_from_mirror_nb(poses, np.arange(3), x, y)
-    np.testing.assert_allclose(poses[0], [0.6, -0.1, 0.3])
-    np.testing.assert_allclose(poses[1], [0.55, -0.25, 1.0 - math.pi])
-    np.testing.assert_allclose(poses[2], [3.0, 1.0, 0.0])
+    x, y, th = 0.5, -0.2, 0.3  # the mirror image (-0.5, 0.2, 0.3 + pi) is 1.08 m away in position
+    poses = np.array([
+        [0.6, -0.1, 0.4],  # beside the estimate, facing its way
+        [-0.55, 0.25, 0.4],  # at the mirror image's position, facing the estimate's way
+        [0.45, -0.25, th + math.pi - 0.1],  # beside the estimate, turned by 180 degrees
+        [-0.55, 0.25, th + math.pi + 0.2 - 2.0 * math.pi],  # at the mirror image
+        [3.0, 1.0, 0.0],  # far from both
+    ])  # fmt: skip
+    away_from_mirror_nb(poses, np.arange(5), x, y, th)
+    np.testing.assert_allclose(poses[0], [0.6, -0.1, 0.4])
+    np.testing.assert_allclose(poses[1], [-0.55, 0.25, 0.4])
+    np.testing.assert_allclose(poses[2], [-0.45, 0.25, th - 0.1], atol=1e-12)
+    np.testing.assert_allclose(poses[3], [0.55, -0.25, th + 0.2], atol=1e-12)
+    np.testing.assert_allclose(poses[4], [3.0, 1.0, 0.0])
+
+
+def test_mirror_guard_keeps_the_twin_nearer_the_estimate():
+    """Over random estimates and poses: each pose comes out as itself or its mirror image
+    (-x, -y, theta + pi), which explains the percepts alike; it is mirrored exactly when the
+    mirror image lies within ``MIRROR_RADIUS`` of the estimate and nearer to it (distance over
+    position and heading), so no pose is left nearer the estimate's mirror image within it."""
+    from cognition.localization.frame_step import MIRROR_HEADING_SCALE, MIRROR_RADIUS, away_from_mirror_nb
+
+    rng = np.random.default_rng(3)
+
+    def dist(p: np.ndarray, q: tuple[float, float, float]) -> np.ndarray:
+        dth = (p[:, 2] - q[2] + math.pi) % (2.0 * math.pi) - math.pi
+        return np.sqrt((p[:, 0] - q[0]) ** 2 + (p[:, 1] - q[1]) ** 2 + (MIRROR_HEADING_SCALE * dth) ** 2)
+
+    mirrored_count = 0
+    for _ in range(50):
+        est = (rng.uniform(-2.0, 2.0), rng.uniform(-1.5, 1.5), rng.uniform(-math.pi, math.pi))
+        mirror = (-est[0], -est[1], est[2] + math.pi)
+        poses = np.column_stack([rng.uniform(-3, 3, 200), rng.uniform(-2, 2, 200), rng.uniform(-math.pi, math.pi, 200)])
+        before = poses.copy()
+        away_from_mirror_nb(poses, np.arange(200), *est)
+        turned = (before[:, 2] + 2.0 * math.pi) % (2.0 * math.pi) - math.pi
+        flipped = np.column_stack([-before[:, 0], -before[:, 1], turned])
+        expect = (dist(before, mirror) < MIRROR_RADIUS) & (dist(before, mirror) < dist(before, est))
+        np.testing.assert_allclose(poses[expect], flipped[expect], atol=1e-12)
+        np.testing.assert_array_equal(poses[~expect], before[~expect])
+        assert np.all(dist(poses[expect], est) < MIRROR_RADIUS)
+        assert not np.any((dist(poses, mirror) < MIRROR_RADIUS) & (dist(poses, mirror) < dist(poses, est) - 1e-9))
+        mirrored_count += int(expect.sum())
+    assert 300 < mirrored_count < 5000  # the rule acts, but not on most poses
 
 
 def _pose_of(parts: np.ndarray, w: np.ndarray, prev: tuple[float, float, float]) -> np.ndarray:

@@ -42,10 +42,14 @@ from cognition.localization.resetting import SensorResetting, _from_vision_nb
 from cognition.localization.sensor import pack_nb
 from cognition.localization.strategy import Injection
 
-MIRROR_RADIUS = 1.5
+MIRROR_RADIUS = 3.0
 """Injected poses (from vision, matured candidates, the safety net's random ones) within this
-distance (m) of the estimate's mirror image, and nearer to it than to the estimate, are mirrored
-onto the estimate."""
+distance of the estimate's mirror image, and nearer to it than to the estimate, are mirrored
+onto the estimate. Distances between poses are in metres with the heading difference counted
+at :data:`MIRROR_HEADING_SCALE`."""
+MIRROR_HEADING_SCALE = 1.0
+"""Metres per radian of heading difference in the mirror guard's pose distance: a pose at the
+estimate's position but turned by 180 degrees is pi m from it."""
 WATCH_MIN_FRAMES = 5
 """Observed frames the safety net needs in its window before it may act."""
 WATCH_MIN_SPAN = 0.8
@@ -149,26 +153,39 @@ def grow_ring(
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
-def away_from_mirror_nb(poses, rows, x, y):  # pragma: no cover - compiled
-    """Mirror (x, y, theta) -> (-x, -y, theta + pi) every pose of ``poses[rows]`` that lies within
-    :data:`MIRROR_RADIUS` of the mirror image (-x, -y) of the estimate (x, y) and nearer to it than
-    to the estimate, in place (``ParticleFilter.away_from_mirror``, row by row). The second test
-    matters near the centre spot, where the estimate and its mirror image are less than
-    ``2 MIRROR_RADIUS`` apart: a pose right beside the estimate was mirrored across the field."""
+def away_from_mirror_nb(poses, rows, x, y, th):  # pragma: no cover - compiled
+    """Mirror (px, py, ptheta) -> (-px, -py, ptheta + pi) every pose of ``poses[rows]`` that lies
+    within :data:`MIRROR_RADIUS` of the mirror image (-x, -y, th + pi) of the estimate
+    (x, y, th) and nearer to it than to the estimate, in place (``ParticleFilter.away_from_mirror``,
+    row by row). A pose and its mirror image explain every percept alike; of the two, the one
+    nearer the estimate is kept.
+
+    The distance counts the heading (:data:`MIRROR_HEADING_SCALE`) as well as the position.
+    Near the centre spot the estimate and its mirror image are close in position, so the
+    position alone cannot tell them apart: a pose beside the estimate facing its way must stay,
+    and one beside it facing the other way (the mirror image of a pose beside the estimate's
+    mirror image) must be turned back, or a robot at kickoff is flipped by 180 degrees."""
+    k = MIRROR_HEADING_SCALE
     for r in rows:
-        d_mirror = math.hypot(poses[r, 0] + x, poses[r, 1] + y)
-        if d_mirror < MIRROR_RADIUS and d_mirror < math.hypot(poses[r, 0] - x, poses[r, 1] - y):
-            poses[r, 0] *= -1.0
-            poses[r, 1] *= -1.0
+        px, py = poses[r, 0], poses[r, 1]
+        de = np.mod(poses[r, 2] - th + math.pi, 2.0 * math.pi) - math.pi  # heading from the estimate's
+        dm = np.mod(de, 2.0 * math.pi) - math.pi  # from the mirror image's (th + pi)
+        d_mirror = math.sqrt((px + x) ** 2 + (py + y) ** 2 + (k * dm) ** 2)
+        d_estimate = math.sqrt((px - x) ** 2 + (py - y) ** 2 + (k * de) ** 2)
+        if d_mirror < MIRROR_RADIUS and d_mirror < d_estimate:
+            poses[r, 0] = -px
+            poses[r, 1] = -py
             poses[r, 2] = np.mod(poses[r, 2] + 2.0 * math.pi, 2.0 * math.pi) - math.pi
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def _inject_nb(
-    parts, slots, m, source, obs, x, y, own_half, kn, posts, crossings, marks, poles, geo, cand, ages, advantage, nc,
-    state,
+    parts, slots, m, source, obs, x, y, th, own_half, kn, posts, crossings, marks, poles, geo, cand, ages, advantage,
+    nc, state,
 ):  # fmt: skip  # pragma: no cover - compiled
-    """The strategy's injection into ``parts[slots[:m]]``; returns how many poses it wrote."""
+    """The strategy's injection into ``parts[slots[:m]]``; returns how many poses it wrote. Poses
+    from vision and matured candidates go through :func:`away_from_mirror_nb` with the estimate
+    (``x``, ``y``, ``th``)."""
     if source == 1:  # AMCL: uniform poses (mirrored pairs, or the own half)
         fresh = np.empty((m, 3))
         K.uniform_set_nb(fresh, 0, m, kn[C_HALF_LENGTH], kn[C_HALF_WIDTH], own_half, state)
@@ -178,7 +195,7 @@ def _inject_nb(
     if source == 2:  # sensor resetting: poses from vision
         fresh = _from_vision_nb(posts, crossings, marks, poles, obs, m, kn[C_ANY_FEATURE] > 0.5, geo, state)
         got = fresh.shape[0]
-        away_from_mirror_nb(fresh, np.arange(got), x, y)
+        away_from_mirror_nb(fresh, np.arange(got), x, y, th)
         for i in range(got):
             parts[slots[i], 0], parts[slots[i], 1], parts[slots[i], 2] = fresh[i, 0], fresh[i, 1], fresh[i, 2]
         return got
@@ -187,7 +204,7 @@ def _inject_nb(
             parts, slots[:m], cand, ages, advantage, nc, int(kn[C_THRESHOLD]), kn[C_MARGIN], state
         )  # fmt: skip
         if got:
-            away_from_mirror_nb(parts, slots[:m], x, y)
+            away_from_mirror_nb(parts, slots[:m], x, y, th)
         return got
     return 0
 
@@ -269,16 +286,16 @@ def frame_step_nb(
     if share > 0.0:
         return x, y, th, spread, k, share, n_new, False
     _, relocalize = resample_step_nb(
-        parts, n, w, logw, spare, n_new, 0, slots, state, kn, obs, x, y, own_half, posts, crossings, marks, poles,
-        geo, watch, averages, cand, ages, advantage, in_use,
+        parts, n, w, logw, spare, n_new, 0, slots, state, kn, obs, x, y, th, own_half, posts, crossings, marks,
+        poles, geo, watch, averages, cand, ages, advantage, in_use,
     )  # fmt: skip
     return x, y, th, spread, k, 0.0, n_new, relocalize
 
 
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def resample_step_nb(
-    parts, n, w, logw, spare, n_new, m_inj, slots, state, kn, obs, x, y, own_half, posts, crossings, marks, poles,
-    geo, watch, averages, cand, ages, advantage, in_use,
+    parts, n, w, logw, spare, n_new, m_inj, slots, state, kn, obs, x, y, th, own_half, posts, crossings, marks,
+    poles, geo, watch, averages, cand, ages, advantage, in_use,
 ):  # fmt: skip  # pragma: no cover - compiled
     """The resampling of :func:`frame_step_nb`: draw ``n_new`` particles into ``spare``, inject
     ``m_inj`` poses from the strategy's source, restart the AMCL averages after an injection,
@@ -290,7 +307,7 @@ def resample_step_nb(
     injected = 0
     if m_inj > 0:
         injected = _inject_nb(
-            spare, slots, m_inj, int(kn[C_SOURCE]), obs, x, y, own_half, kn, posts, crossings, marks, poles, geo,
+            spare, slots, m_inj, int(kn[C_SOURCE]), obs, x, y, th, own_half, kn, posts, crossings, marks, poles, geo,
             cand, ages, advantage, in_use[0], state,
         )  # fmt: skip
         if injected:  # Injection.restart

@@ -88,8 +88,12 @@ game state before kickoff, teammates' ball), which this module does not use beyo
 half of the game's setup phases. What the filters do keep is the side they are on: poses
 from vision (``reset``, ``maturing``) that fall within :data:`~.frame_step.MIRROR_RADIUS` of the
 estimate's mirror image, and nearer to it than to the estimate, are mirrored onto the estimate
-before they replace particles (not in the papers; without the second test, near the centre spot
-poses right beside the estimate were mirrored across the field). A few lines and one post fit
+before they replace particles (not in the papers). The distances count the heading
+(:data:`~.frame_step.MIRROR_HEADING_SCALE`, 1 m per radian) as well as the position: near the
+centre spot the estimate and its mirror image are close in position, and a guard by position
+alone mirrored poses right beside the estimate across the field, or turned poses at the mirror
+image's position facing the estimate's way into poses beside the estimate facing the other way,
+which flipped robots at kickoff by 180 degrees for a minute or two. A few lines and one post fit
 both halves equally, so such poses mature as readily as right ones; injected while the spread
 test called an accurate robot lost, they flipped goalkeepers that then faced their own net, saw
 nothing and stayed 180 degrees wrong (5 v 5 image matches; maturing, 60 s halves, seeds 0, 2, 3,
@@ -402,7 +406,7 @@ class ParticleFilter(Localizer):
             posts, crossings, _, marks, poles = self.maps[:5]
             self.injected, relocalize = resample_step_nb(
                 parts, n, self.w, self.logw, spare, n_new, m_inj, self._slots, self.kernel_state, self._knobs,
-                packed[:k], x, y, self._own_half, posts, crossings, marks, poles, self.maps[7], self._watch_state,
+                packed[:k], x, y, th, self._own_half, posts, crossings, marks, poles, self.maps[7], self._watch_state,
                 averages, cand, ages, advantage, in_use,
             )  # fmt: skip
         if share >= 0.0:  # resampled: the new set is in the spare buffer
@@ -501,7 +505,7 @@ class ParticleFilter(Localizer):
         explains the percepts exactly as well as the estimate: seeded there, a second mode would
         live on and could take the estimate across the field."""
         fresh = np.ascontiguousarray(fresh, dtype=np.float64)
-        away_from_mirror_nb(fresh, np.arange(fresh.shape[0]), pose.x, pose.y)  # the compiled frame's rule
+        away_from_mirror_nb(fresh, np.arange(fresh.shape[0]), pose.x, pose.y, pose.theta)  # the compiled frame's rule
         return fresh
 
     def uniform_poses(self, m: int) -> NDArray[np.float64]:
