@@ -199,9 +199,16 @@ class ImageRenderer:
         r = self._check(scene, robot)
         return self._image_record(scene.observers[r], self._render(scene, r, None, effects), time)
 
-    def camera_images(self, scene: Scene, time: float = 0.0, effects: bool = True) -> list[CameraImage | None]:
+    def camera_images(
+        self, scene: Scene, time: float = 0.0, effects: bool = True, camera_errors: NDArray[np.float64] | None = None
+    ) -> list[CameraImage | None]:
         """Every robot's :meth:`camera_image` (``None`` for a robot whose camera sees nothing: a
         penalised or carried one), the same images to the bit.
+
+        ``camera_errors`` (robots x 2, rad), if given, is the error of each robot's estimate of its
+        camera's orientation (around the pitch axis, then the yaw axis): the image shows the
+        true view and its :attr:`~cognition.camera.CameraImage.camera` is computed with the head
+        angles off by these (``Match`` draws them from the Darmstadt noise model).
 
         All images are rendered first and the image effects applied to them afterwards, in robot
         order (the effects draw their random numbers in that order, as one image at a time
@@ -224,7 +231,8 @@ class ImageRenderer:
                 self._apply_effects(scene, r, pixels[r])
         images: list[CameraImage | None] = [None] * obs.shape[0]
         for r in seeing:
-            images[r] = self._image_record(obs[r], pixels[r], time)
+            da, db = (0.0, 0.0) if camera_errors is None else (float(camera_errors[r, 0]), float(camera_errors[r, 1]))
+            images[r] = self._image_record(obs[r], pixels[r], time, da, db)
         return images
 
     def _apply_effects(self, scene: Scene, r: int, pixels: NDArray[np.uint8]) -> None:
@@ -234,13 +242,16 @@ class ImageRenderer:
         yaw_rate = float(o[_YAWR] + scene.turn_rates[r])
         self.effects.apply(pixels, fx, fy, yaw_rate, float(o[_PITCHR]), bool(o[_WALK] > 0.5))
 
-    def _image_record(self, o: NDArray[np.float64], pixels: NDArray[np.uint8], time: float) -> CameraImage:
-        """The :class:`CameraImage` of an observer row ``o`` and its pixels."""
+    def _image_record(
+        self, o: NDArray[np.float64], pixels: NDArray[np.uint8], time: float, da: float = 0.0, db: float = 0.0
+    ) -> CameraImage:
+        """The :class:`CameraImage` of an observer row ``o`` and its pixels; its camera matrix is
+        off by ``da`` around the pitch axis and ``db`` around the yaw axis (rad)."""
         ci, yaw, pitch = int(o[_CAM]), float(o[_YAW]), float(o[_PITCH])
         return CameraImage(
             time=time,
             pixels=pixels,
-            camera=self.rig.camera_matrix(ci, yaw, pitch),
+            camera=self.rig.camera_matrix(ci, yaw + db, pitch + da),
             camera_name=CAMERA_NAMES[ci],
             head_yaw=yaw,
             head_pitch=pitch,

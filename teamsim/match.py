@@ -27,7 +27,9 @@ channel                  ChannelParams                 team-message delay, loss,
 observation              percepts                      what sensor frames carry: ``percepts`` (synthesized
                                                        by the camera model), ``images`` (rendered camera
                                                        images with their camera matrix) or ``none``
-percepts                 default                       PerceptParams or a preset name (ideal, default, harsh)
+percepts                 default                       PerceptParams or a preset name (ideal, default, harsh);
+                                                       with ``images``, its angular noise sets the error of
+                                                       the camera matrices (below)
 images                   default                       ImageParams or a preset name (ideal, default, harsh)
 camera                   CameraRig                     head height and the two NAO cameras (320 x 240)
 events                   ()                            scripted events (kidnap, penalties, ...) for players
@@ -51,6 +53,15 @@ The numbers are checked against their ranges, and every section (``physics``, ``
 Camera images are taken ``percepts.latency`` seconds before the cognition frame that
 receives them (rounded to physics steps); :attr:`cognition.percepts.Percepts.time` and
 :attr:`cognition.camera.CameraImage.time` say when.
+
+A real robot knows its camera's pose only through its joint angles and its torso's sway, so
+the camera matrix it projects with is off from the true camera (Darmstadt IV.B). Synthesized
+percepts model this as the share ``percepts.shared_noise_fraction`` of the angular variance
+(eqs. 3-6) that all percepts of one image have in common. With ``observation="images"`` the
+same share is drawn per image, around the pitch and the yaw axis, and the image's
+:attr:`~cognition.camera.CameraImage.camera` is computed with the head angles off by it, while
+the image shows the true view; the rest of the error comes from the pixels. ``percepts="ideal"``
+gives exact camera matrices.
 """
 
 from __future__ import annotations
@@ -64,6 +75,7 @@ from dataclasses import field as dataclass_field
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import NDArray
 
 from cognition.brain import Brain, BrainContext, rejected_inputs, think_all
 from cognition.camera import CameraImage, CameraRig
@@ -92,6 +104,7 @@ from teamsim.images import ImageRenderer
 from teamsim.odometry import OdometryModel, OdometryParams, TrueOdometry
 from teamsim.params import Range, Ranges, check_choice, check_ranges, from_mapping, positive
 from teamsim.percept_params import PerceptParams
+from teamsim.percept_parts import OBS
 from teamsim.percepts import PerceptSynthesizer, Scene
 from teamsim.profile import MatchProfile
 from teamsim.referee import Referee, RefereeParams
@@ -239,7 +252,7 @@ class Match:
         self.field: Field = make_field(c.field)
         n = c.players_per_team
         seq = np.random.SeedSequence(c.seed)
-        children = seq.spawn(5 + 6 * n)
+        children = seq.spawn(6 + 6 * n)
         gens = [np.random.Generator(np.random.PCG64(s)) for s in children]
         # fixed consumer order; new consumers go at the end so existing streams stay the same
         fall_rng, channel_rng, self._event_rng, percept_rng = gens[:4]
@@ -247,6 +260,8 @@ class Match:
         odo_rngs = gens[4 + 2 * n : 4 + 4 * n]
         image_rng = gens[4 + 4 * n]
         brain_rngs = gens[5 + 4 * n : 5 + 6 * n]
+        self._camera_error_rng = gens[5 + 6 * n]
+        """Draws the error of the camera matrices of images (``observation="images"``)."""
         self.log = log or EventLog()
         self.world = World(self.field, n, c.physics, robot_rngs, fall_rng)
         referee = GameControllerReferee if external_referee else Referee
@@ -463,7 +478,22 @@ class Match:
         """Take one camera image per robot now (``None`` for robots that cannot see)."""
         if self.image_renderer is None:
             raise RuntimeError(f"this match has observation={self.config.observation!r}: no images are rendered")
-        return self.image_renderer.camera_images(self.scene(), self.time)
+        scene = self.scene()
+        return self.image_renderer.camera_images(scene, self.time, camera_errors=self._camera_errors(scene))
+
+    def _camera_errors(self, scene: Scene) -> NDArray[np.float64]:
+        """Per robot, the error (rad) of its camera matrix around the pitch and the yaw axis: the
+        shared part of the Darmstadt angular noise of ``percepts`` (module docstring), drawn for
+        every robot (seeing or not) so that the stream does not depend on who sees."""
+        p = self.config.percepts
+        obs = scene.observers
+        z = self._camera_error_rng.standard_normal((obs.shape[0], 2))
+        share = math.sqrt(p.shared_noise_fraction)
+        for r in range(obs.shape[0]):
+            sa, sb = p.sigmas(float(obs[r, OBS.PITCHR]), float(obs[r, OBS.YAWR]), bool(obs[r, OBS.WALK] > 0.5))
+            z[r, 0] *= share * sa
+            z[r, 1] *= share * sb
+        return z
 
     def _cognition(self) -> None:
         now = self.time

@@ -17,10 +17,13 @@ from teamsim.cli import main
 from teamsim.image_params import ImageParams
 from teamsim.images import ImageRenderer, draw_annotations, save_png
 from teamsim.match import Match, MatchConfig
+from teamsim.percept_params import PerceptParams
 from teamsim.percept_parts import OBS
 from teamsim.percepts import Scene, SceneRobot
 
 SPL = Field(FIELD_PRESETS["spl2025"], "spl2025")
+EXACT_CAMERA = PerceptParams(shared_noise_fraction=0.0)
+"""Default percept noise without the share common to an image: image matches get exact camera matrices."""
 
 
 def scene(yaw_rate: float = 0.0, walking: bool = False) -> Scene:
@@ -122,7 +125,7 @@ class CameraBrain:
         return BrainOutput()
 
 
-def run_image_match(seed: int) -> tuple[Match, list[CameraBrain]]:
+def run_image_match(seed: int, percepts: str | PerceptParams = "default") -> tuple[Match, list[CameraBrain]]:
     brains: list[CameraBrain] = []
 
     def factory(team: int, number: int) -> Brain:
@@ -130,14 +133,15 @@ def run_image_match(seed: int) -> tuple[Match, list[CameraBrain]]:
         brains.append(b)
         return b
 
-    config = MatchConfig(seed=seed, players_per_team=2, observation="images", images="default")
+    config = MatchConfig(seed=seed, players_per_team=2, observation="images", images="default", percepts=percepts)
     match = Match(config, brains=factory)
     match.run(until=1.0)
     return match, brains
 
 
 def test_a_match_delivers_images_with_their_camera_model():
-    match, brains = run_image_match(3)
+    """With no shared angular noise the camera matrix is the exact one of the head angles."""
+    match, brains = run_image_match(3, percepts=EXACT_CAMERA)
     latency = match.config.percepts.latency
     rig = match.config.camera
     for brain in brains:
@@ -151,6 +155,73 @@ def test_a_match_delivers_images_with_their_camera_model():
             assert np.allclose(img.camera.rotation, expected.rotation)
             assert np.allclose(img.camera.position, expected.position)
     assert match.image_count == sum(len([1 for f in b.frames if f[1] is not None]) for b in brains)
+
+
+def _axis_angles(img: CameraImage) -> tuple[float, float]:
+    """Elevation and azimuth (rad) of the optical axis of an image's camera matrix (robot frame)."""
+    axis = img.camera.rotation[:, 0]
+    return math.asin(axis[2]), math.atan2(axis[1], axis[0])
+
+
+def test_camera_errors_turn_the_camera_matrix_not_the_image():
+    """``camera_errors`` (rad, around the pitch and the yaw axis) turn the optical axis of the
+    image's camera matrix down by the first and left by the second; the pixels stay the same."""
+    sc = scene()
+    ren = ImageRenderer(SPL, "classic", None, "ideal")
+    exact = ren.camera_images(sc)
+    errors = np.array([[0.02, -0.03], [-0.01, 0.04]])
+    off = ren.camera_images(sc, camera_errors=errors)
+    for r, (a, b) in enumerate(zip(exact, off, strict=True)):
+        assert a is not None and b is not None
+        assert np.array_equal(a.pixels, b.pixels)
+        (e0, z0), (e1, z1) = _axis_angles(a), _axis_angles(b)
+        assert e1 - e0 == pytest.approx(-errors[r, 0], abs=2e-3)  # more pitch looks further down
+        assert z1 - z0 == pytest.approx(errors[r, 1], abs=2e-3)
+
+
+def test_match_draws_the_shared_darmstadt_error_of_each_image():
+    """Per image the camera matrix is off by the share of the Darmstadt angular noise that
+    synthesized percepts have in common (sigma from eqs. 3-6 for the robot's head rates and
+    gait, times sqrt(shared_noise_fraction)), independently around each axis and per image."""
+    match = Match(MatchConfig(seed=1, players_per_team=1, observation="images"))
+    p = match.config.percepts
+    sc = scene(yaw_rate=1.5, walking=True)
+    obs = sc.observers
+    draws = np.array([match._camera_errors(sc) for _ in range(4000)])  # images x robots x 2
+    share = math.sqrt(p.shared_noise_fraction)
+    for r in range(2):
+        sa, sb = p.sigmas(float(obs[r, OBS.PITCHR]), float(obs[r, OBS.YAWR]), bool(obs[r, OBS.WALK] > 0.5))
+        for axis, sigma in ((0, sa), (1, sb)):
+            z = draws[:, r, axis] / (share * sigma)
+            assert abs(z.mean()) < 0.07 and 0.95 < z.std() < 1.05
+        assert abs(np.corrcoef(draws[:, r, 0], draws[:, r, 1])[0, 1]) < 0.06
+        assert abs(np.corrcoef(draws[1:, r, 0], draws[:-1, r, 0])[0, 1]) < 0.06
+    walking_sigma = p.sigmas(0.0, 1.5, True)[1]
+    assert draws[:, 0, 1].std() == pytest.approx(share * walking_sigma, rel=0.05)  # robot 0 walks and turns
+    assert draws[:, 1, 1].std() == pytest.approx(share * p.sigma_beta_base, rel=0.05)  # robot 1 stands
+    exact = Match(MatchConfig(seed=1, players_per_team=1, observation="images", percepts=EXACT_CAMERA))
+    assert not np.any(exact._camera_errors(sc))
+
+
+def test_image_match_cameras_are_off_but_the_pixels_are_the_same():
+    """In a match the camera matrices differ from the exact ones by a few sigma at most, and the
+    images are those of a match with exact matrices (the error has its own random stream)."""
+    match, brains = run_image_match(3)
+    _, exact_brains = run_image_match(3, percepts=EXACT_CAMERA)
+    p = match.config.percepts
+    largest = math.sqrt(p.shared_noise_fraction) * max(p.sigmas(4.0, 4.0, True))
+    off = []
+    for brain, exact in zip(brains, exact_brains, strict=True):
+        for (_, img, _, _), (_, ref, _, _) in zip(brain.frames, exact.frames, strict=True):
+            if img is None:
+                assert ref is None
+                continue
+            assert np.array_equal(img.pixels, ref.pixels)
+            (e0, z0), (e1, z1) = _axis_angles(ref), _axis_angles(img)
+            off.append((e1 - e0, z1 - z0))
+    d = np.abs(np.array(off))
+    assert len(d) >= 100 and np.all(d < 5.0 * largest)
+    assert np.median(d) > 0.2 * math.sqrt(p.shared_noise_fraction) * p.sigma_alpha_base
 
 
 def test_image_matches_are_deterministic():
