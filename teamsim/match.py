@@ -483,16 +483,18 @@ class Match:
 
     def _camera_errors(self, scene: Scene) -> NDArray[np.float64]:
         """Per robot, the error (rad) of its camera matrix around the pitch and the yaw axis: the
-        shared part of the Darmstadt angular noise of ``percepts`` (module docstring), drawn for
+        shared part of the Darmstadt angular noise of ``percepts`` (module docstring;
+        :meth:`~teamsim.percept_params.PerceptParams.sigmas` for all robots at once), drawn for
         every robot (seeing or not) so that the stream does not depend on who sees."""
         p = self.config.percepts
         obs = scene.observers
         z = self._camera_error_rng.standard_normal((obs.shape[0], 2))
+        walking = obs[:, OBS.WALK] > 0.5
+        sa = p.sigma_alpha_base + p.c_tilt * np.abs(obs[:, OBS.PITCHR]) + np.where(walking, p.sigma_alpha_moving, 0.0)
+        sb = p.sigma_beta_base + p.c_pan * np.abs(obs[:, OBS.YAWR]) + np.where(walking, p.sigma_beta_moving, 0.0)
         share = math.sqrt(p.shared_noise_fraction)
-        for r in range(obs.shape[0]):
-            sa, sb = p.sigmas(float(obs[r, OBS.PITCHR]), float(obs[r, OBS.YAWR]), bool(obs[r, OBS.WALK] > 0.5))
-            z[r, 0] *= share * sa
-            z[r, 1] *= share * sb
+        z[:, 0] *= share * sa
+        z[:, 1] *= share * sb
         return z
 
     def _cognition(self) -> None:
