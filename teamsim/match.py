@@ -60,8 +60,8 @@ percepts model this as the share ``percepts.shared_noise_fraction`` of the angul
 (eqs. 3-6) that all percepts of one image have in common. With ``observation="images"`` the
 same share is drawn per image, around the pitch and the yaw axis, and the image's
 :attr:`~cognition.camera.CameraImage.camera` is computed with the head angles off by it, while
-the image shows the true view; the rest of the error comes from the pixels. ``percepts="ideal"``
-gives exact camera matrices.
+the image shows the true view; the rest of the error comes from the pixels.
+``shared_noise_fraction=0`` (or the ``ideal`` percepts preset) gives exact camera matrices.
 """
 
 from __future__ import annotations
