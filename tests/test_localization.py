@@ -475,6 +475,32 @@ def test_pickup_in_ready_moves_particles_to_placements_and_penalty_to_return_spo
         assert 0.3 < np.mean(sides > 0) < 0.7  # both return spots are populated
 
 
+@pytest.mark.parametrize("variant", ["lowvar", "reset", "maturing"])
+def test_a_penalty_cleared_at_half_time_puts_the_robot_on_its_touchline_spot(variant):
+    """The referee clears every penalty when the second half starts and lines all robots up on
+    their touchline spots in INITIAL. A robot penalised at half time must then believe it
+    stands on its own spot, not at a penalty return spot (one of which lies on the other
+    touchline, facing the other way); a return during play still uses the return spots."""
+    from cognition.localization.places import placement_poses
+
+    loc = make_localizer(variant, SPL, rng=np.random.default_rng(4), player_number=1, players_per_team=5)
+    loc.update(_frame(0.0))
+    loc.update(_frame(0.1, penalty=2, picked=True))  # penalised in the first half
+    loc.update(_frame(0.2, state=GameStateId.FINISHED, penalty=2, picked=True))
+    loc.update(_frame(0.3, state=GameStateId.INITIAL, first_half=0, penalty=0, picked=True))
+    spot = placement_poses(SPL, 1, 5, GameStateId.INITIAL, False)[0]
+    parts = loc.parts[: loc.n]
+    assert np.all(np.hypot(parts[:, 0] - spot[0], parts[:, 1] - spot[1]) < 0.8)
+    assert np.all(np.abs((parts[:, 2] - spot[2] + math.pi) % (2 * math.pi) - math.pi) < 0.6)
+    pose = loc.update(_frame(0.4, state=GameStateId.INITIAL, first_half=0, picked=False))
+    assert math.hypot(pose.x - spot[0], pose.y - spot[1]) < 0.3
+    loc.update(_frame(0.5, first_half=0, penalty=2, picked=True))  # penalised in play, then back
+    loc.update(_frame(0.6, first_half=0, penalty=0, picked=True))
+    spots = return_poses(SPL, loc.params.return_rule)
+    xy = loc.parts[: loc.n, None, :2]
+    assert np.all(np.min(np.hypot(xy[..., 0] - spots[None, :, 0], xy[..., 1] - spots[None, :, 1]), axis=1) < 0.8)
+
+
 # -- robustness -----------------------------------------------------------------------------
 @pytest.mark.parametrize("variant", VARIANTS)
 def test_a_minute_without_percepts_stays_finite(variant):

@@ -17,7 +17,10 @@ event            detected when
 side switch      ``game.first_half`` goes from 1 to 0 (teams change ends at half time)
 placement        the robot is picked up (both feet off the ground) while the game state is
                  INITIAL, READY or SET: it will be put down at a legal position
-penalty          the robot's penalty code becomes non-zero, and again when it returns to 0
+penalty          the robot's penalty code becomes non-zero, and again when it returns to 0;
+                 a penalty cleared in INITIAL (the referee ends every penalty when a half
+                 starts and lines the robots up on their touchline spots) is a placement
+                 at the touchline spot instead
 ===============  ===========================================================================
 
 Input that cannot be trusted (non-finite or implausible odometry) is replaced by no motion
@@ -122,7 +125,15 @@ class Localizer:
         self._first_half = int(game.first_half)
         penalty = frame.penalty
         if penalty != self._penalty:
-            self.on_penalty(bool(penalty), frame.game.state)
+            if not penalty and game.state == GameStateId.INITIAL:
+                # a penalty cleared at the start of a half: the referee lines every robot up on its
+                # touchline spot, not at a return spot (the return prior put robots penalised at
+                # half time on the far touchline's return spot, 6 m and 180 degrees off)
+                self.on_placement(
+                    placement_poses(self.field, self.player_number, self.players_per_team, game.state, False)
+                )
+            else:
+                self.on_penalty(bool(penalty), game.state)
         self._penalty = penalty
         picked = bool(frame.picked_up)
         if picked and not self._picked and not penalty and game.state in _PLACEMENT_STATES:
