@@ -219,6 +219,14 @@ class ImageRenderer:
         if not isinstance(scene, Scene):
             raise TypeError(f"expected a Scene, got {type(scene).__name__}")
         obs = scene.observers
+        if camera_errors is not None:
+            camera_errors = np.asarray(camera_errors, dtype=np.float64)
+            shaped = camera_errors.shape == (obs.shape[0], 2)
+            if not (shaped and np.all(np.isfinite(camera_errors))):
+                raise ValueError(
+                    f"camera_errors must be finite angles (rad) of shape ({obs.shape[0]}, 2), one row per robot, "
+                    f"got shape {camera_errors.shape}" + ("" if not shaped else " with NaN/inf")
+                )
         seeing = [r for r in range(obs.shape[0]) if obs[r, OBS.ACTIVE] > 0.5]
         effects = effects and self.effects.active
         inputs = self._inputs[effects and self._lit]

@@ -177,6 +177,12 @@ def test_camera_errors_turn_the_camera_matrix_not_the_image():
         (e0, z0), (e1, z1) = _axis_angles(a), _axis_angles(b)
         assert e1 - e0 == pytest.approx(-errors[r, 0], abs=2e-3)  # more pitch looks further down
         assert z1 - z0 == pytest.approx(errors[r, 1], abs=2e-3)
+    with pytest.raises(
+        ValueError, match=r"camera_errors must be finite angles \(rad\) of shape \(2, 2\).*shape \(2,\)"
+    ):
+        ren.camera_images(sc, camera_errors=np.zeros(2))
+    with pytest.raises(ValueError, match="with NaN/inf"):
+        ren.camera_images(sc, camera_errors=np.array([[0.0, math.nan], [0.0, 0.0]]))
 
 
 def test_match_draws_the_shared_darmstadt_error_of_each_image():
