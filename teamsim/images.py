@@ -28,6 +28,7 @@ players_per_team + number - 1``).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -93,6 +94,29 @@ class ImageAnnotations:
 
     def __len__(self) -> int:
         return sum(len(a) for a in (self.posts, self.crossings, self.lines, self.marks, self.ball, self.robots))
+
+
+def camera_errors(
+    observers: NDArray[np.float64], params: PerceptParams, rng: np.random.Generator
+) -> NDArray[np.float64]:
+    """Per robot (rows of ``observers``), the error (rad) of its camera matrix around the pitch and
+    the yaw axis, for :meth:`ImageRenderer.camera_images`.
+
+    A real robot knows its camera's pose only through its joint angles and its torso's sway, so
+    the matrix it projects with is off from the true camera (Darmstadt IV.B). Synthesized
+    percepts model this as the share ``params.shared_noise_fraction`` of the angular variance
+    (eqs. 3-6, :meth:`PerceptParams.sigmas`) that all percepts of one image have in common; the
+    same share is drawn here per image, for every robot (seeing or not, so that the stream does
+    not depend on who sees). The rest of an image's error comes from its pixels."""
+    z = rng.standard_normal((observers.shape[0], 2))
+    p = params
+    walking = observers[:, OBS.WALK] > 0.5
+    sa = p.sigma_alpha_base + p.c_tilt * np.abs(observers[:, OBS.PITCHR]) + np.where(walking, p.sigma_alpha_moving, 0.0)
+    sb = p.sigma_beta_base + p.c_pan * np.abs(observers[:, OBS.YAWR]) + np.where(walking, p.sigma_beta_moving, 0.0)
+    share = math.sqrt(p.shared_noise_fraction)
+    z[:, 0] *= share * sa
+    z[:, 1] *= share * sb
+    return z
 
 
 class ImageRenderer:

@@ -54,14 +54,10 @@ Camera images are taken ``percepts.latency`` seconds before the cognition frame 
 receives them (rounded to physics steps); :attr:`cognition.percepts.Percepts.time` and
 :attr:`cognition.camera.CameraImage.time` say when.
 
-A real robot knows its camera's pose only through its joint angles and its torso's sway, so
-the camera matrix it projects with is off from the true camera (Darmstadt IV.B). Synthesized
-percepts model this as the share ``percepts.shared_noise_fraction`` of the angular variance
-(eqs. 3-6) that all percepts of one image have in common. With ``observation="images"`` the
-same share is drawn per image, around the pitch and the yaw axis, and the image's
-:attr:`~cognition.camera.CameraImage.camera` is computed with the head angles off by it, while
-the image shows the true view; the rest of the error comes from the pixels.
-``shared_noise_fraction=0`` (or the ``ideal`` percepts preset) gives exact camera matrices.
+With ``observation="images"`` an image's camera matrix is the robot's estimate, off from the
+true camera by the share of the Darmstadt angular noise of ``percepts`` that percepts of one
+image have in common (:func:`teamsim.images.camera_errors`); ``shared_noise_fraction=0`` (or
+the ``ideal`` percepts preset) gives exact camera matrices.
 """
 
 from __future__ import annotations
@@ -100,11 +96,10 @@ from teamsim.events import (
 )
 from teamsim.gc_referee import GameControllerReferee
 from teamsim.image_params import ImageParams
-from teamsim.images import ImageRenderer
+from teamsim.images import ImageRenderer, camera_errors
 from teamsim.odometry import OdometryModel, OdometryParams, TrueOdometry
 from teamsim.params import Range, Ranges, check_choice, check_ranges, from_mapping, positive
 from teamsim.percept_params import PerceptParams
-from teamsim.percept_parts import OBS
 from teamsim.percepts import PerceptSynthesizer, Scene
 from teamsim.profile import MatchProfile
 from teamsim.referee import Referee, RefereeParams
@@ -482,20 +477,8 @@ class Match:
         return self.image_renderer.camera_images(scene, self.time, camera_errors=self._camera_errors(scene))
 
     def _camera_errors(self, scene: Scene) -> NDArray[np.float64]:
-        """Per robot, the error (rad) of its camera matrix around the pitch and the yaw axis: the
-        shared part of the Darmstadt angular noise of ``percepts`` (module docstring;
-        :meth:`~teamsim.percept_params.PerceptParams.sigmas` for all robots at once), drawn for
-        every robot (seeing or not) so that the stream does not depend on who sees."""
-        p = self.config.percepts
-        obs = scene.observers
-        z = self._camera_error_rng.standard_normal((obs.shape[0], 2))
-        walking = obs[:, OBS.WALK] > 0.5
-        sa = p.sigma_alpha_base + p.c_tilt * np.abs(obs[:, OBS.PITCHR]) + np.where(walking, p.sigma_alpha_moving, 0.0)
-        sb = p.sigma_beta_base + p.c_pan * np.abs(obs[:, OBS.YAWR]) + np.where(walking, p.sigma_beta_moving, 0.0)
-        share = math.sqrt(p.shared_noise_fraction)
-        z[:, 0] *= share * sa
-        z[:, 1] *= share * sb
-        return z
+        """This capture's camera-matrix errors (:func:`teamsim.images.camera_errors`), own stream."""
+        return camera_errors(scene.observers, self.config.percepts, self._camera_error_rng)
 
     def _cognition(self) -> None:
         now = self.time
