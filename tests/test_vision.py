@@ -170,6 +170,58 @@ def test_centre_circle_found_and_not_made_up() -> None:
     assert len(Vision(field=FIELD, scheme="classic").detect(corner, cam).circle) == 0
 
 
+def test_arcs_of_the_centre_circle_seen_from_inside_are_no_lines() -> None:
+    """A robot near the centre spot sees a short arc of the circle ahead: too little of it for
+    the circle, and its pieces are nearly straight in the image. They must not become lines
+    (matched to the halfway line they turned the estimate of a robot there by tens of degrees).
+    Over 40 such views (no straight line in any), testing neighbouring pieces together leaves
+    a short piece now and then (about 0.3 per view; 2.3 when each piece was tested alone)."""
+    r = FIELD.centre_circle.radius
+    rng = np.random.default_rng(1)
+    lines = with_lines = 0
+    for k in range(40):
+        cam = _camera(yaw=rng.uniform(-0.8, 0.8), pitch=rng.uniform(0.35, 0.55))
+        d, a = rng.uniform(0.0, 0.5), rng.uniform(-math.pi, math.pi)
+        p = Vision(field=FIELD, scheme="classic").detect(
+            paint(cam, [], circle=(d * math.cos(a), d * math.sin(a), r), seed=k), cam
+        )
+        lines += len(p.lines)
+        with_lines += len(p.lines) > 0
+        assert all(np.hypot(*(p.lines.xy[q] - p.lines.xy2[q])) < 0.45 for q in range(len(p.lines)))
+    assert lines <= 0.6 * 40 and with_lines <= 0.4 * 40, (lines, with_lines)
+
+
+def test_chords_of_an_arc_are_tested_together_and_corners_are_not() -> None:
+    """``arcs_nb``: three chords of 0.33 m of the circle are each too straight alone and an arc
+    together; an L corner and two pieces of one straight line are no arcs."""
+    from cognition.vision.dnt import arcs_nb
+
+    r = FIELD.centre_circle.radius
+    rng = np.random.default_rng(0)
+
+    def chord(a0: float, a1: float, label: int) -> tuple[np.ndarray, np.ndarray]:
+        a = np.linspace(a0, a1, 12)
+        pts = np.column_stack([r * np.cos(a), r * np.sin(a)]) + rng.normal(0.0, 0.003, (12, 2))
+        return pts, np.full(12, label)
+
+    def straight(p: tuple[float, float], q: tuple[float, float], label: int) -> tuple[np.ndarray, np.ndarray]:
+        t = np.linspace(0.0, 1.0, 12)[:, None]
+        pts = np.asarray(p) + t * (np.asarray(q) - np.asarray(p)) + rng.normal(0.0, 0.003, (12, 2))
+        return pts, np.full(12, label)
+
+    step = 0.33 / r
+    pieces = [chord(k * step, (k + 0.9) * step, k) for k in range(3)]
+    ground, labels = np.vstack([p for p, _ in pieces]), np.concatenate([lab for _, lab in pieces])
+    assert arcs_nb(ground, labels, 3, r).tolist() == [True, True, True]
+    for k in range(3):  # alone, each piece is too straight to tell
+        assert not arcs_nb(pieces[k][0], np.zeros(12, dtype=np.int64), 1, r)[0]
+    corner = [straight((1.0, 0.0), (1.0, 0.4), 0), straight((1.05, 0.0), (1.45, 0.0), 1)]
+    line = [straight((1.0, -0.5), (1.0, -0.15), 0), straight((1.0, 0.0), (1.0, 0.35), 1)]
+    for case in (corner, line):
+        ground, labels = np.vstack([p for p, _ in case]), np.concatenate([lab for _, lab in case])
+        assert arcs_nb(ground, labels, 2, r).tolist() == [False, False]
+
+
 def test_the_torso_lean_is_part_of_the_camera_matrix() -> None:
     """A robot leaning forward by 5 degrees: the upright model misplaces a T by decimetres,
     the camera matrix with the IMU's pitch finds it where it is."""

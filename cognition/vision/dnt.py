@@ -84,19 +84,89 @@ def centre_circle_nb(
     return cx, cy, on
 
 
+ARC_PAIR_GAP = 0.25
+"""Farthest apart (m, on the ground) the nearest ends of two segments tested together as one arc."""
+ARC_PAIR_TURN = math.radians(50.0)
+"""Largest angle between two segments tested together as one arc: consecutive chords of the
+centre circle turn by (l1 + l2) / (2 r), 25 degrees for two pieces of 0.33 m; field lines meet
+at right angles, so no corner or crossing is tested as an arc."""
+
+
+@nb.njit(cache=True, error_model="python", fastmath=False)
+def _bends(
+    ground: NDArray[np.float64],
+    idx: NDArray[np.int64],
+    radius: float,
+    t: NDArray[np.float64],
+    d: NDArray[np.float64],
+    m: NDArray[np.float64],
+    r: NDArray[np.float64],
+    axis: NDArray[np.float64],
+) -> bool:  # pragma: no cover - compiled
+    """Whether the points ``ground[idx]`` (robot frame, m; at least 6) bend like an arc of a circle
+    of ``radius``: a parabola fits them clearly better than a straight line, with a curvature
+    between half and twice 1 / ``radius``. Writes their mean, direction and the extent along it
+    into ``axis`` (mx, my, ux, uy, t_min, t_max); ``t``, ``d``, ``m``, ``r`` are scratch space."""
+    n = idx.shape[0]
+    mx, my = 0.0, 0.0
+    for k in idx:
+        mx += ground[k, 0]
+        my += ground[k, 1]
+    mx /= n
+    my /= n
+    sxx = sxy = syy = 0.0
+    for k in idx:
+        dx, dy = ground[k, 0] - mx, ground[k, 1] - my
+        sxx += dx * dx
+        sxy += dx * dy
+        syy += dy * dy
+    th = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
+    ux, uy = math.cos(th), math.sin(th)
+    # d = a t^2 + b t + c by least squares (normal equations), and the straight line's rms
+    m[:] = 0.0
+    r[:] = 0.0
+    line2 = 0.0
+    t_min, t_max = math.inf, -math.inf
+    for q in range(n):
+        dx, dy = ground[idx[q], 0] - mx, ground[idx[q], 1] - my
+        t[q] = dx * ux + dy * uy
+        d[q] = -dx * uy + dy * ux
+        t_min, t_max = min(t_min, t[q]), max(t_max, t[q])
+        line2 += d[q] * d[q]
+        row = (t[q] * t[q], t[q], 1.0)
+        for i in range(3):
+            r[i] += row[i] * d[q]
+            for j in range(3):
+                m[i, j] += row[i] * row[j]
+    axis[0], axis[1], axis[2], axis[3], axis[4], axis[5] = mx, my, ux, uy, t_min, t_max
+    if t_max - t_min < 0.3 or abs(np.linalg.det(m)) < 1e-12:
+        return False
+    a, b, c = np.linalg.solve(m, r)
+    quad2 = 0.0
+    for q in range(n):
+        e = d[q] - (a * t[q] * t[q] + b * t[q] + c)
+        quad2 += e * e
+    rms_line, rms_quad = math.sqrt(line2 / n), math.sqrt(quad2 / n)
+    kappa = abs(2.0 * a)
+    return 0.5 / radius <= kappa <= 2.0 / radius and rms_line > 0.01 and rms_line > 1.5 * rms_quad
+
+
 @nb.njit(cache=True, error_model="python", fastmath=False)
 def arcs_nb(
     ground: NDArray[np.float64], labels: NDArray[np.int64], n_seg: int, radius: float
 ) -> NDArray[np.bool_]:  # pragma: no cover - compiled
     """Which segments' points (``ground`` K x 2 robot frame, m; ``labels`` the segment of each
-    point or -1) bend like an arc of the centre circle: a parabola fits them clearly better than
-    a straight line, with a curvature between half and twice 1 / ``radius``. Pieces of a circle
-    that was not found are locally straight in the image and chain into short false lines."""
+    point or -1) bend like an arc of the centre circle (:func:`_bends`), alone or together with a
+    neighbour: two segments whose nearest ends are within :data:`ARC_PAIR_GAP` and that turn by
+    at most :data:`ARC_PAIR_TURN` are tested as one. Pieces of a circle that was not found are
+    locally straight in the image and chain into short false lines; a piece shorter than about
+    half the radius bends too little to tell alone (a robot inside the circle sees it as a row
+    of such pieces), two consecutive ones bend enough."""
     out = np.zeros(n_seg, dtype=np.bool_)
     if radius <= 0.0:
         return out
     # the points of each segment in increasing index (one counting sort instead of a search per
-    # segment; unlabelled points go to an extra bucket), and scratch space for the largest segment
+    # segment; unlabelled points go to an extra bucket), and scratch space for two segments
     key = np.empty(labels.shape[0], dtype=np.int64)
     for k in range(labels.shape[0]):
         key[k] = labels[k] if 0 <= labels[k] < n_seg else n_seg
@@ -106,54 +176,47 @@ def arcs_nb(
         longest = max(longest, sizes[g + 1] - sizes[g])
     m = np.zeros((3, 3))
     r = np.zeros(3)
-    t_buf = np.empty(longest)
-    d_buf = np.empty(longest)
+    t_buf = np.empty(2 * longest)
+    d_buf = np.empty(2 * longest)
+    pair = np.empty(2 * longest, dtype=np.int64)
+    axes = np.full((n_seg, 6), np.nan)  # per segment: mean, direction, extent (_bends); NaN: < 3 points
+    scratch = np.empty(6)
     for g in range(n_seg):
         idx = flat[sizes[g] : sizes[g + 1]]
         n = idx.shape[0]
-        if n < 6:
+        if n < 3:
             continue
-        mx, my = 0.0, 0.0
-        for k in idx:
-            mx += ground[k, 0]
-            my += ground[k, 1]
-        mx /= n
-        my /= n
-        sxx = sxy = syy = 0.0
-        for k in idx:
-            dx, dy = ground[k, 0] - mx, ground[k, 1] - my
-            sxx += dx * dx
-            sxy += dx * dy
-            syy += dy * dy
-        th = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
-        ux, uy = math.cos(th), math.sin(th)
-        # d = a t^2 + b t + c by least squares (normal equations), and the straight line's rms
-        m[:] = 0.0
-        r[:] = 0.0
-        t = t_buf[:n]
-        d = d_buf[:n]
-        line2 = 0.0
-        for q in range(n):
-            dx, dy = ground[idx[q], 0] - mx, ground[idx[q], 1] - my
-            t[q] = dx * ux + dy * uy
-            d[q] = -dx * uy + dy * ux
-            line2 += d[q] * d[q]
-            row = (t[q] * t[q], t[q], 1.0)
-            for i in range(3):
-                r[i] += row[i] * d[q]
-                for j in range(3):
-                    m[i, j] += row[i] * row[j]
-        if np.max(t) - np.min(t) < 0.3 or abs(np.linalg.det(m)) < 1e-12:
+        out[g] = _bends(ground, idx, radius, t_buf, d_buf, m, r, axes[g]) if n >= 6 else False
+        if n < 6:  # the axis alone, for the pairs
+            _bends(ground, idx, radius, t_buf, d_buf, m, r, axes[g])
+    cos_turn = math.cos(ARC_PAIR_TURN)
+    gap2 = ARC_PAIR_GAP * ARC_PAIR_GAP
+    for g in range(n_seg):
+        if math.isnan(axes[g, 0]):
             continue
-        a, b, c = np.linalg.solve(m, r)
-        quad2 = 0.0
-        for q in range(n):
-            e = d[q] - (a * t[q] * t[q] + b * t[q] + c)
-            quad2 += e * e
-        rms_line, rms_quad = math.sqrt(line2 / n), math.sqrt(quad2 / n)
-        kappa = abs(2.0 * a)
-        if 0.5 / radius <= kappa <= 2.0 / radius and rms_line > 0.01 and rms_line > 1.5 * rms_quad:
-            out[g] = True
+        for h in range(g + 1, n_seg):
+            if math.isnan(axes[h, 0]) or (out[g] and out[h]):
+                continue
+            if abs(axes[g, 2] * axes[h, 2] + axes[g, 3] * axes[h, 3]) < cos_turn:
+                continue
+            near2 = math.inf
+            for eg in (4, 5):
+                px = axes[g, 0] + axes[g, eg] * axes[g, 2]
+                py = axes[g, 1] + axes[g, eg] * axes[g, 3]
+                for eh in (4, 5):
+                    qx = axes[h, 0] + axes[h, eh] * axes[h, 2]
+                    qy = axes[h, 1] + axes[h, eh] * axes[h, 3]
+                    near2 = min(near2, (px - qx) ** 2 + (py - qy) ** 2)
+            if near2 > gap2:
+                continue
+            a, b = flat[sizes[g] : sizes[g + 1]], flat[sizes[h] : sizes[h + 1]]
+            n = a.shape[0] + b.shape[0]
+            if n < 6:
+                continue
+            pair[: a.shape[0]] = a
+            pair[a.shape[0] : n] = b
+            if _bends(ground, pair[:n], radius, t_buf, d_buf, m, r, scratch):
+                out[g] = out[h] = True
     return out
 
 
