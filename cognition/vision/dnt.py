@@ -5,11 +5,11 @@ horizontal scanlines (:mod:`.scanlines`); they are projected to the ground (robo
 and those farther than ``max_distance`` dropped. The centre circle is looked for first
 (:mod:`.circle`, voting at the radius as NimbRo 5.2 does, then checked against the image),
 and its points are kept out of the lines; the remaining points are chained into straight
-segments in the image and merged (:mod:`.segments`, DNT Algorithm 1); chains that bend like the centre circle
-(its arcs when the circle was not found) are dropped, and the segments are finally
-extended along the white, projected to the ground and given real or open ends
-(:mod:`.ends`). The stages are compiled functions; this module strings them together in one
-compiled function (run by :mod:`.frame`).
+segments in the image and merged (:mod:`.segments`, DNT Algorithm 1); chains that bend like
+the centre circle, alone or with a neighbouring chain (its arcs when the circle was not
+found), are dropped, and the segments are finally extended along the white, projected to the
+ground and given real or open ends (:mod:`.ends`). The stages are compiled functions; this
+module strings them together in one compiled function (run by :mod:`.frame`).
 """
 
 from __future__ import annotations
@@ -103,7 +103,7 @@ def _bends(
     r: NDArray[np.float64],
     axis: NDArray[np.float64],
 ) -> bool:  # pragma: no cover - compiled
-    """Whether the points ``ground[idx]`` (robot frame, m; at least 6) bend like an arc of a circle
+    """Whether the points ``ground[idx]`` (robot frame, m; at least 3) bend like an arc of a circle
     of ``radius``: a parabola fits them clearly better than a straight line, with a curvature
     between half and twice 1 / ``radius``. Writes their mean, direction and the extent along it
     into ``axis`` (mx, my, ux, uy, t_min, t_max); ``t``, ``d``, ``m``, ``r`` are scratch space."""
@@ -186,9 +186,8 @@ def arcs_nb(
         n = idx.shape[0]
         if n < 3:
             continue
-        out[g] = _bends(ground, idx, radius, t_buf, d_buf, m, r, axes[g]) if n >= 6 else False
-        if n < 6:  # the axis alone, for the pairs
-            _bends(ground, idx, radius, t_buf, d_buf, m, r, axes[g])
+        # every segment's axis (for the pairs); alone, only a segment of 6 points or more is an arc
+        out[g] = _bends(ground, idx, radius, t_buf, d_buf, m, r, axes[g]) and n >= 6
     cos_turn = math.cos(ARC_PAIR_TURN)
     gap2 = ARC_PAIR_GAP * ARC_PAIR_GAP
     for g in range(n_seg):
