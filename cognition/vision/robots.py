@@ -36,6 +36,11 @@ found by its feet: the lowest row of a tall non-green region that meets green be
    frame) with ``u, v`` the centre's pixel on the ground (the annotations' "feet"). With
    ``min_jersey`` samples of one team's class and twice as many as of the other the robot is
    own (1) or opponent (2), else unknown (0).
+4. **One robot, one report.** Two robots' bodies do not overlap, so detections whose centres
+   lie within two radii of each other are one robot seen more than once (a near robot's wide
+   base can be divided, or found by two rules): taken nearest first, each joins the first
+   robot kept within two radii of it, and a kept robot's centre is the mean of its members'
+   (its team guess the first one given). At most ``max_robots`` are reported, nearest first.
 
 One compiled call; covariance from the Darmstadt model at the ground (:mod:`.rows`). Pixel
 sizes are for a 320 x 240 image and scale with the width.
@@ -420,11 +425,38 @@ def _robots(
             out[n_out, 0], out[n_out, 1], out[n_out, 2], out[n_out, 3] = cx, cy, pu, pv
             out[n_out, 4] = guess
             n_out += 1
+    # nearest first; two robots' bodies do not overlap, so centres within two radii of each
+    # other are one robot seen more than once (the pieces of a near robot's wide base): they are
+    # merged into their mean
     order = np.argsort(out[:n_out, 0] ** 2 + out[:n_out, 1] ** 2)
-    m = min(n_out, int(prm[_MAX_N]))
+    keep = np.empty(n_out, dtype=np.int64)
+    count = np.zeros(n_out)
+    sx = np.zeros(n_out)
+    sy = np.zeros(n_out)
+    m = 0
+    for k in range(n_out):
+        r = order[k]
+        home = -1
+        for q in range(m):
+            if math.hypot(out[r, 0] - sx[q] / count[q], out[r, 1] - sy[q] / count[q]) < 2.0 * radius:
+                home = q
+                break
+        if home < 0:
+            keep[m] = r
+            home = m
+            m += 1
+        elif out[keep[home], 4] == 0.0:
+            out[keep[home], 4] = out[r, 4]
+        count[home] += 1.0
+        sx[home] += out[r, 0]
+        sy[home] += out[r, 1]
+    m = min(m, int(prm[_MAX_N]))
     res = np.empty((m, 5))
     for k in range(m):
-        res[k] = out[order[k]]
+        res[k] = out[keep[k]]
+        if count[k] > 1.0:
+            res[k, 0], res[k, 1] = sx[k] / count[k], sy[k] / count[k]
+            res[k, 2], res[k, 3], _ = pixel_nb(cam, res[k, 0], res[k, 1], 0.0)
     return res
 
 
