@@ -296,6 +296,24 @@ def test_a_near_robot_is_reported_once() -> None:
     assert seen == 22 and once >= 16  # 17 found; the 5 missed show too little of their feet
 
 
+@pytest.mark.parametrize("preset", ["default", "ideal"])
+def test_the_jerseys_of_robots_before_the_hall_are_no_robots_of_their_own(preset: str) -> None:
+    """A random frame of ``teamsim vision-eval`` (seed 0, frame 377): a near opponent and an own
+    robot before a goal and the hall. The lower edges of their jerseys were reported as two more
+    robots 1.6 to 2 m behind them; those feet would lie inside the nearer robot's image."""
+    observer = SceneRobot(0, 1, 2.59, -0.26, 1.42, head_yaw=-0.80, head_pitch=0.34)
+    robots = [SceneRobot(0, 4, 4.21, 1.35, 1.64), SceneRobot(1, 1, 3.11, 0.63, -1.42)]
+    _img, cam, ann, classes, boundary = _render("classic", [observer, *robots], None, preset)
+    rows = detect_robots(classes, boundary, cam.as_row(), JERSEYS, 0, 0.14, ObstacleParams(), SIGMA, SIGMA)
+    assert len(ann.robots) == 2 and len(rows) == 2, rows[:, [Col.X, Col.Y]]
+    c, s = math.cos(observer.theta), math.sin(observer.theta)
+    for rb in robots:
+        dx, dy = rb.x - observer.x, rb.y - observer.y
+        tx, ty = c * dx + s * dy, -s * dx + c * dy
+        hit = [r for r in rows if math.hypot(r[Col.X] - tx, r[Col.Y] - ty) < 0.1 * math.hypot(tx, ty)]
+        assert len(hit) == 1 and hit[0][Col.SUBTYPE] == (RobotTeam.OWN if rb.team == 0 else RobotTeam.OPPONENT)
+
+
 def test_lines_posts_and_the_ball_are_no_robots() -> None:
     observer = SceneRobot(0, 1, 2.5, 0.3, 0.0, head_pitch=0.15)  # facing the opponent goal, box lines ahead
     _img, cam, ann, classes, boundary = _render("modern", [observer], (3.3, 0.0))

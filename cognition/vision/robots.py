@@ -40,7 +40,11 @@ found by its feet: the lowest row of a tall non-green region that meets green be
    lie within two radii of each other are one robot seen more than once (a near robot's wide
    base can be divided, or found by two rules): taken nearest first, each joins the first
    robot kept within two radii of it, and a kept robot's centre is the mean of its members'
-   (its team guess the first one given). At most ``max_robots`` are reported, nearest first.
+   (its team guess the first one given). A detection farther away whose centre's pixel lies
+   inside the image of a nearer robot kept (within its half width of its column, between its
+   top at ``ROBOT_HEIGHT`` and its front on the ground) would have its feet hidden by it: it is
+   a part of that robot, typically the lower edge of its jersey before the hall, and is
+   dropped. At most ``max_robots`` are reported, nearest first.
 
 One compiled call; covariance from the Darmstadt model at the ground (:mod:`.rows`). Pixel
 sizes are for a 320 x 240 image and scale with the width.
@@ -81,6 +85,8 @@ from cognition.vision.projection import ground_nb, horizon_row_nb, pixel_nb
 from cognition.vision.rows import point_rows_nb
 
 GREEN, WHITE = 1, 2
+ROBOT_HEIGHT = 0.57
+"""Height of a standing robot (m; a NAO V6 is 0.574 m tall): what a nearer robot hides."""
 
 
 @dataclass(frozen=True)
@@ -437,10 +443,14 @@ def _robots(
     for k in range(n_out):
         r = order[k]
         home = -1
+        hidden = False
         for q in range(m):
             if math.hypot(out[r, 0] - sx[q] / count[q], out[r, 1] - sy[q] / count[q]) < 2.0 * radius:
                 home = q
                 break
+            hidden |= _behind(cam, out[keep[q], 0], out[keep[q], 1], radius, out[r, 2], out[r, 3])
+        if home < 0 and hidden:
+            continue  # its feet would be hidden by a nearer robot: a part of that robot (its jersey's edge)
         if home < 0:
             keep[m] = r
             home = m
@@ -458,6 +468,23 @@ def _robots(
             res[k, 0], res[k, 1] = sx[k] / count[k], sy[k] / count[k]
             res[k, 2], res[k, 3], _ = pixel_nb(cam, res[k, 0], res[k, 1], 0.0)
     return res
+
+
+@nb.njit(cache=True, error_model="numpy", fastmath=False)
+def _behind(
+    cam: NDArray[np.float64], x: float, y: float, radius: float, u: float, v: float
+) -> bool:  # pragma: no cover - compiled
+    """Pixel (u, v) lies inside the image of a standing robot centred at ground (x, y) (robot
+    frame, m): within its half width of its centre's column, between its top and its front's
+    ground row."""
+    d = math.hypot(x - cam[9], y - cam[10])
+    if d <= radius:
+        return False
+    uc, _, ok = pixel_nb(cam, x, y, 0.0)
+    _, v_top, ok1 = pixel_nb(cam, x, y, ROBOT_HEIGHT)
+    _, v_front, ok2 = pixel_nb(cam, x - radius * (x - cam[9]) / d, y - radius * (y - cam[10]) / d, 0.0)
+    half = 0.5 * (cam[12] + cam[13]) * radius / (d - radius)
+    return ok and ok1 and ok2 and abs(u - uc) <= half and v_top <= v <= v_front
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=False)
