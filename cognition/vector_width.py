@@ -5,7 +5,9 @@ to Emerald Rapids) to *prefer* 256-bit vectors, a tuning kept from the first of 
 clock dropped while 512-bit code ran. Its loop vectorizer then fills 8 float32 lanes of
 registers that hold 16, in every loop over pixels, particles or rows. This project's kernels
 are such loops (the image kernels pad their spans to 16 lanes, :data:`teamsim.image_objects.VEC`),
-and on the machine of the README's figures (Emerald Rapids) the wider vectors are faster:
+(AMD's Zen 4 and later are not tuned so: there numba uses 512-bit vectors already, and
+dropping the preference changes nothing), and on the machine of the README's figures (Emerald
+Rapids) the wider vectors are faster:
 the renderer took 156 instead of 209 us per 320 x 240 image, and the default 5 v 5 match on
 images (render, image effects, vision) ran at 3.5x to 3.6x real time instead of 3.2x, with
 the match on synthesized percepts, whose kernels are small, as fast as before.
@@ -57,7 +59,8 @@ def configure() -> bool:
     if "_toplevel_target_context" in registry.cpu_target.__dict__:  # numba's code generator exists
         warnings.warn(
             "numba compiled code before cognition was imported, so its kernels keep numba's default "
-            f"vector width (256 bits on this CPU); import cognition first for 512-bit vectors ({__name__})",
+            "vector width (256 bits on Intel's AVX-512 cores); import cognition first for 512-bit vectors "
+            f"({__name__})",
             RuntimeWarning,
             stacklevel=2,
         )
