@@ -155,11 +155,21 @@ def reference_log_likelihood(parts: np.ndarray, obs: np.ndarray, pf: ParticleFil
             r, c = cells(*placed(ox, oy))
             j = np.maximum(model.line_grid[cls, r, c], 0)
             x1, y1, x2, y2 = (model.lines[j, i] for i in range(4))
-            u = np.clip(((px - x1) * (x2 - x1) + (py - y1) * (y2 - y1)) * model.lines[j, 6], 0.0, 1.0)
+            u = ((px - x1) * (x2 - x1) + (py - y1) * (y2 - y1)) * model.lines[j, 6]
+            foot_seen = row[O.FOOT] > 0.5
+            if foot_seen:  # the segment's point nearest the particle
+                u = np.clip(u, 0.0, 1.0)
             lx, ly = x1 + u * (x2 - x1), y1 + u * (y2 - y1)
             do = g - model.lines[j, 4]
             do = (do - np.pi * np.floor(do / np.pi + 0.5)) / so  # undirected: within (-pi/2, pi/2]
-            q = _q(px, py, th, lx, ly, dist, bear, sr, sb) - 0.5 * do * do
+            if foot_seen:
+                q = _q(px, py, th, lx, ly, dist, bear, sr, sb) - 0.5 * do * do
+            else:  # the foot on the map's line, in the robot frame, against the observed line across it
+                c, s = np.cos(th), np.sin(th)
+                fx, fy = c * (lx - px) + s * (ly - py), -s * (lx - px) + c * (ly - py)
+                normal = np.array([-np.sin(oa), np.cos(oa)])
+                across = normal[0] * (fx - ox) + normal[1] * (fy - oy)
+                q = -0.5 * (across / sr) ** 2 - 0.5 * do * do
         else:
             arr = model.marks if t == T.MARK else model.poles
             gx, gy = placed(ox, oy)
@@ -181,11 +191,13 @@ def test_the_sensor_update_equals_the_plain_sensor_models(recorded) -> None:
     kinds: set[int] = set()
     worst = 0.0
     compared = skipped = 0
+    feet: set[float] = set()  # lines whose foot was seen (1) and lines that end before it (0)
     for parts, obs, _ in recorded:
         if obs.shape[0] == 0:
             continue
         n = parts.shape[0]
         kinds |= set(obs[:, O.TYPE].astype(int).tolist())
+        feet |= set(obs[obs[:, O.TYPE] == T.LINE, O.FOOT].tolist())
         ll, scratch = np.zeros_like(pf.ll_buffer), np.zeros_like(pf.scratch)
         w = np.full(n, 1.0 / n)
         K.log_likelihood_nb(parts.copy(), n, obs, pf.hough_params, *pf.maps, ll, scratch, w, np.zeros(obs.shape[0]))
@@ -199,6 +211,7 @@ def test_the_sensor_update_equals_the_plain_sensor_models(recorded) -> None:
         compared += int((~edge).sum())
         skipped += int(edge.sum())
     assert {int(T.POST), int(T.CROSS), int(T.LINE), int(T.CIRCLE)} <= kinds  # every map kind was exercised
+    assert feet == {0.0, 1.0}  # both line models
     # about 2 x 2e-4 m / 5 cm of each coordinate lies that near an edge: a few percent of particles
     assert skipped < 0.03 * compared and worst < 1e-3, (skipped, compared, worst)
 
@@ -231,3 +244,53 @@ def test_the_fast_exponential_and_logarithm_are_within_two_ulp_of_numpy() -> Non
     out = np.empty(3)
     log_into_nb(special.copy(), out, 3)
     assert out[0] == pytest.approx(math.log(2.2250738585072014e-308)) and out[1] == np.inf and np.isnan(out[2])
+
+
+def _seen_line_row(pose: tuple[float, float, float], a: tuple[float, float], b: tuple[float, float], pf) -> np.ndarray:
+    """The observation row of the part of the map line a-b (team frame, m) that a camera at
+    ``pose`` sees: ahead by 0.5 to 3 m and within 27 degrees of its axis (the lower camera's
+    view of the ground, roughly), exact, in the robot frame."""
+    from cognition.localization.sensor import pack_nb
+    from cognition.percepts import N_COLS, N_KINDS
+
+    x, y, th = pose
+    s = np.linspace(0.0, 1.0, 2001)[:, None]
+    pts = np.array(a) + s * (np.array(b) - np.array(a))
+    c, sn = math.cos(th), math.sin(th)
+    rx = c * (pts[:, 0] - x) + sn * (pts[:, 1] - y)
+    ry = -sn * (pts[:, 0] - x) + c * (pts[:, 1] - y)
+    seen = (rx >= 0.5) & (np.hypot(rx, ry) <= 3.0) & (np.abs(np.arctan2(ry, rx)) <= math.radians(27))
+    first, last = np.flatnonzero(seen)[[0, -1]]
+    rows = np.zeros((1, N_COLS))
+    rows[0, [0, 1, 4, 5]] = rx[first], ry[first], rx[last], ry[last]
+    offsets = np.array([0, 0, 0] + [1] * (N_KINDS - 1), dtype=np.int64)  # one row, of kind 2 (lines)
+    out = np.zeros((1, len(O)))
+    assert pack_nb(rows, offsets, pf._table, out) == 1 and out[0, O.TYPE] == T.LINE
+    return out
+
+
+def test_a_line_that_starts_beyond_the_image_border_does_not_pull_the_robot_along_it() -> None:
+    """CMU III.C.3 compares the point of the seen segment nearest to the robot with the foot of
+    the robot's perpendicular on the map line. A robot beside a line sees it only from the image's
+    lower border on: the nearest seen point is where the image cuts the line, far from the foot.
+    Taken at face value, that point said the robot stood 0.6 m further along the line (traced in
+    an image match, seed 1: the estimate of a robot beside the penalty area's side line slid 0.7 m
+    along it against good odometry, lost itself, and was reset into the other half for 222 s).
+    Where the seen segment ends before the foot, only the distance across the line is compared:
+    the true pose explains the line, poses along the line explain it as well, poses across it
+    worse."""
+    pf = ParticleFilter("maturing", SPL, LocalizationParams(), np.random.default_rng(0), 1, 1)
+    truth = (-3.24, -1.88, math.radians(-150.0))  # 0.12 m beside the side line y = -2 of the own penalty area
+    obs = _seen_line_row(truth, (-2.85, -2.0), (-4.5, -2.0), pf)
+    assert obs[0, O.FOOT] == 0.0 and obs[0, O.DIST] > 0.5  # the foot lies under the robot, out of view
+    x, y, th = truth  # facing 30 degrees off the line; moved along it (x) and across it (y) by 0.3 m
+    parts = np.array([truth, (x + 0.3, y, th), (x, y + 0.3, th), (x - 0.3, y, th), (x, y - 0.3, th)])
+    n = parts.shape[0]
+    ll, scratch = np.zeros(n), np.zeros((6, n))
+    K.log_likelihood_nb(parts, n, obs, pf.hough_params, *pf.maps, ll, scratch, np.full(n, 1.0 / n), np.zeros(1))
+    raw = scratch[5]  # without the floor
+    assert raw[0] > -0.01, raw[0]
+    along_x = raw[[1, 3]]  # the line cannot tell
+    across = raw[[2, 4]]
+    assert np.all(np.abs(along_x - raw[0]) < 0.01), along_x
+    assert np.all(across < raw[0] - 0.1), across

@@ -209,14 +209,25 @@ def log_likelihood_nb(
                 gx = px[i] + cs[i] * ox - sn[i] * oy
                 gy = py[i] + sn[i] * ox + cs[i] * oy
                 cell[i] = cls * plane + _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny)
+            foot = obs[k, 16] > 0.5
+            u_lo, u_hi = (0.0, 1.0) if foot else (-1e9, 1e9)  # the map segment, or its whole line
             for i in range(n):  # gathers (scalar): the associated line's point nearest the particle
                 j = max(lines_flat[cell[i]], 0)  # -1 (no line of the class) cannot occur on a field with lines
                 x1, y1 = lines[j, 0], lines[j, 1]
                 dx, dy = lines[j, 2] - x1, lines[j, 3] - y1
-                u = min(max(((px[i] - x1) * dx + (py[i] - y1) * dy) * lines[j, 6], 0.0), 1.0)
+                u = min(max(((px[i] - x1) * dx + (py[i] - y1) * dy) * lines[j, 6], u_lo), u_hi)
                 lx[i], ly[i], lo[i] = x1 + u * dx, y1 + u * dy, lines[j, 4]
+            # the foot was not seen: only the distance across the observed line is compared (along
+            # its normal (nxo, nyo), robot frame), with the expected foot from the map line
+            nxo, nyo = -math.sin(oa), math.cos(oa)
+            s_obs = nxo * ox + nyo * oy
             for i in range(n):  # arithmetic (vectorized)
-                v = _q(px[i], py[i], th[i], lx[i], ly[i], dist, bear, inv_sr, inv_sb)
+                if foot:
+                    v = _q(px[i], py[i], th[i], lx[i], ly[i], dist, bear, inv_sr, inv_sb)
+                else:
+                    ex, ey = lx[i] - px[i], ly[i] - py[i]
+                    e = (nxo * (cs[i] * ex + sn[i] * ey) + nyo * (cs[i] * ey - sn[i] * ex) - s_obs) * inv_sr
+                    v = -0.5 * e * e
                 g = oa + th[i]
                 do = g - _PI * math.floor(g * _INV_PI) - lo[i]
                 do = (do - _PI * math.floor(do * _INV_PI + 0.5)) * inv_so

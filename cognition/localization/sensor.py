@@ -14,7 +14,15 @@ the distance (CMU III.C tables, :mod:`cognition.localization.params`):
   nearest to the robot; the map line is the nearest one of the matching orientation class
   (grid lookup), the expected point its point nearest to the particle; times a Gaussian of
   the orientation difference (modulo 180 degrees); then 0.9 is added (false positives).
-  Segments shorter than 10 cm are dropped before.
+  Segments shorter than 10 cm are dropped before. Not in the paper: when the seen segment ends
+  before the foot of the robot's perpendicular on its line (``O.FOOT`` 0; a robot beside a line
+  sees it only from the image's lower border on, so its nearest seen point is where the image
+  cuts it), that point says nothing about where along the line the robot stands. Then only the
+  distance across the line is compared: the offset, along the observed line's normal, between the
+  seen point and the foot of the particle's perpendicular on the whole map line, with the same
+  distance sigma, and the orientation as before. Taken at face value, the cut end pulled
+  estimates along the line (traced in a 5 v 5 image match: 0.7 m along the penalty area's side
+  line against good odometry, then a reset into the other half).
 * **lines**, ``hough`` model (NimbRo Sec. 6.2, eq. 7): the observed segment's Hough
   parameters (theta of the normal, rho) are matched to the nearest map line of the same
   orientation class in Hough space; the likelihood compares theta, rho, the mean position
@@ -92,6 +100,9 @@ class O(IntEnum):  # noqa: E742 - short column enum used in kernels
     """|(X, Y)| (m)."""
     BEAR = 15
     """atan2(Y, X) (rad)."""
+    FOOT = 16
+    """Lines: 1 when the observed segment holds the foot of the robot's perpendicular on its line
+    (X, Y is that foot), 0 when the segment ends first (X, Y is its end nearer the robot)."""
 
 
 N_O = len(O)
@@ -184,8 +195,10 @@ def pack_nb(rows, offsets, tab, out):  # pragma: no cover - compiled
             length = math.sqrt(dx * dx + dy * dy)
             if length < tab[3]:
                 continue
-            t = min(max(-(x1 * dx + y1 * dy) / max(length * length, 1e-12), 0.0), 1.0)
+            t_foot = -(x1 * dx + y1 * dy) / max(length * length, 1e-12)
+            t = min(max(t_foot, 0.0), 1.0)
             x, y = x1 + t * dx, y1 + t * dy  # the point nearest to the robot
+            out[k, 16] = 1.0 if t_foot > 0.0 and t_foot < 1.0 else 0.0
             out[k, 0] = 2.0
             sr, sb = _sig(tab, 12, adaptive, row, x, y)
             if not adaptive:
