@@ -101,6 +101,7 @@ def wrap(a):  # pragma: no cover - compiled
 _BATCH = 8
 _PI = math.pi
 _INV_PI = 1.0 / math.pi
+_SQRT12 = math.sqrt(12.0)
 
 
 @nb.njit(cache=True, inline="always", fastmath=FASTMATH)
@@ -149,6 +150,7 @@ def log_likelihood_nb(
     q, prod, acc, cs, sn = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     raw = np.empty(n)
     lx, ly, lo, lf = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    cq = np.empty(n)
     for i in range(n):
         prod[i] = 1.0
         acc[i] = 0.0
@@ -202,6 +204,7 @@ def log_likelihood_nb(
                     do = wrap(lf[i] * (ob + th[i] - lo[i])) / lf[i] * inv_so
                     q[i] = v - 0.5 * do * do
         elif t == 2 and hough[0] < 0.5:  # line: CMU nearest-point model (both classes exist)
+            arc = obs[k, 13] * _SQRT12 <= geo[5]  # short enough to be a straight piece of the circle
             for i in range(n):  # vectorized: the grid cell (row-major in the class's plane) of the placement
                 g = oa + th[i]
                 g -= _PI * math.floor(g * _INV_PI)  # [0, pi)
@@ -209,6 +212,11 @@ def log_likelihood_nb(
                 gx = px[i] + cs[i] * ox - sn[i] * oy
                 gy = py[i] + sn[i] * ox + cs[i] * oy
                 cell[i] = cls * plane + _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny)
+                # the centre circle's tangent at the placement: off the circle, and turned from it
+                dr = (math.sqrt(gx * gx + gy * gy) - geo[5]) * inv_sr
+                dc = g - fast_atan2(gy, gx) - 0.5 * _PI
+                dc = (dc - _PI * math.floor(dc * _INV_PI + 0.5)) * inv_so
+                cq[i] = -0.5 * (dr * dr + dc * dc) if arc else -1e4
             foot = obs[k, 16] > 0.5
             u_lo, u_hi = (0.0, 1.0) if foot else (-1e9, 1e9)  # the map segment, or its whole line
             for i in range(n):  # gathers (scalar): the associated line's point nearest the particle
@@ -231,7 +239,7 @@ def log_likelihood_nb(
                 g = oa + th[i]
                 do = g - _PI * math.floor(g * _INV_PI) - lo[i]
                 do = (do - _PI * math.floor(do * _INV_PI + 0.5)) * inv_so
-                q[i] = v - 0.5 * do * do
+                q[i] = max(v - 0.5 * do * do, cq[i])
         elif t == 2:  # line: NimbRo Hough model (eq. 7)
             for i in range(n):
                 q[i] = _hough_q(px[i], py[i], th[i], cs[i], sn[i], obs[k], hough, lines)

@@ -22,7 +22,12 @@ the distance (CMU III.C tables, :mod:`cognition.localization.params`):
   seen point and the foot of the particle's perpendicular on the whole map line, with the same
   distance sigma, and the orientation as before. Taken at face value, the cut end pulled
   estimates along the line (traced in a 5 v 5 image match: 0.7 m along the penalty area's side
-  line against good odometry, then a reset into the other half).
+  line against good odometry, then a reset into the other half). Also not in the paper: a line
+  no longer than the centre circle's radius may be a straight piece of the circle (vision
+  reports the circle seen from near its centre as such pieces), so its likelihood is the larger
+  of the line model's and that of the circle's tangent where the particle puts the seen point
+  (Gaussians of that point's distance from the circle, with the distance sigma, and of the
+  direction's turn from the tangent, with the orientation sigma).
 * **lines**, ``hough`` model (NimbRo Sec. 6.2, eq. 7): the observed segment's Hough
   parameters (theta of the normal, rho) are matched to the nearest map line of the same
   orientation class in Hough space; the likelihood compares theta, rho, the mean position
