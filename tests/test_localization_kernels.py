@@ -251,26 +251,35 @@ def test_the_fast_exponential_and_logarithm_are_within_two_ulp_of_numpy() -> Non
     assert out[0] == pytest.approx(math.log(2.2250738585072014e-308)) and out[1] == np.inf and np.isnan(out[2])
 
 
-def _seen_line_row(pose: tuple[float, float, float], a: tuple[float, float], b: tuple[float, float], pf) -> np.ndarray:
-    """The observation row of the part of the map line a-b (team frame, m) that a camera at
-    ``pose`` sees: ahead by 0.5 to 3 m and within 27 degrees of its axis (the lower camera's
-    view of the ground, roughly), exact, in the robot frame."""
+def _line_row(pose: tuple[float, float, float], a: tuple[float, float], b: tuple[float, float], pf) -> np.ndarray:
+    """The observation row of the segment a-b (team frame, m) seen exactly from ``pose``."""
     from cognition.localization.sensor import pack_nb
     from cognition.percepts import N_COLS, N_KINDS
 
     x, y, th = pose
-    s = np.linspace(0.0, 1.0, 2001)[:, None]
-    pts = np.array(a) + s * (np.array(b) - np.array(a))
+    c, s = math.cos(th), math.sin(th)
+    rows = np.zeros((1, N_COLS))
+    for col, (px, py) in ((0, a), (4, b)):
+        rows[0, col], rows[0, col + 1] = c * (px - x) + s * (py - y), -s * (px - x) + c * (py - y)
+    offsets = np.array([0, 0, 0] + [1] * (N_KINDS - 1), dtype=np.int64)  # one row, of kind 2 (lines)
+    out = np.zeros((1, len(O)))
+    assert pack_nb(rows, offsets, pf._table, out) == 1
+    return out
+
+
+def _seen_line_row(pose: tuple[float, float, float], a: tuple[float, float], b: tuple[float, float], pf) -> np.ndarray:
+    """The observation row of the part of the map line a-b (team frame, m) that a camera at
+    ``pose`` sees: ahead by 0.5 to 3 m and within 27 degrees of its axis (the lower camera's
+    view of the ground, roughly), exact."""
+    x, y, th = pose
+    pts = np.array(a) + np.linspace(0.0, 1.0, 2001)[:, None] * (np.array(b) - np.array(a))
     c, sn = math.cos(th), math.sin(th)
     rx = c * (pts[:, 0] - x) + sn * (pts[:, 1] - y)
     ry = -sn * (pts[:, 0] - x) + c * (pts[:, 1] - y)
     seen = (rx >= 0.5) & (np.hypot(rx, ry) <= 3.0) & (np.abs(np.arctan2(ry, rx)) <= math.radians(27))
     first, last = np.flatnonzero(seen)[[0, -1]]
-    rows = np.zeros((1, N_COLS))
-    rows[0, [0, 1, 4, 5]] = rx[first], ry[first], rx[last], ry[last]
-    offsets = np.array([0, 0, 0] + [1] * (N_KINDS - 1), dtype=np.int64)  # one row, of kind 2 (lines)
-    out = np.zeros((1, len(O)))
-    assert pack_nb(rows, offsets, pf._table, out) == 1 and out[0, O.TYPE] == T.LINE
+    out = _line_row(pose, tuple(pts[first]), tuple(pts[last]), pf)
+    assert out[0, O.TYPE] == T.LINE
     return out
 
 
@@ -299,22 +308,6 @@ def test_a_line_that_starts_beyond_the_image_border_does_not_pull_the_robot_alon
     across = raw[[2, 4]]
     assert np.all(np.abs(along_x - raw[0]) < 0.01), along_x
     assert np.all(across < raw[0] - 0.1), across
-
-
-def _line_row(pose: tuple[float, float, float], a: tuple[float, float], b: tuple[float, float], pf) -> np.ndarray:
-    """The observation row of the segment a-b (team frame, m) seen exactly from ``pose``."""
-    from cognition.localization.sensor import pack_nb
-    from cognition.percepts import N_COLS, N_KINDS
-
-    x, y, th = pose
-    c, s = math.cos(th), math.sin(th)
-    rows = np.zeros((1, N_COLS))
-    for col, (px, py) in ((0, a), (4, b)):
-        rows[0, col], rows[0, col + 1] = c * (px - x) + s * (py - y), -s * (px - x) + c * (py - y)
-    offsets = np.array([0, 0, 0] + [1] * (N_KINDS - 1), dtype=np.int64)  # one row, of kind 2 (lines)
-    out = np.zeros((1, len(O)))
-    assert pack_nb(rows, offsets, pf._table, out) == 1
-    return out
 
 
 def test_a_straight_piece_of_the_centre_circle_is_explained_by_the_circle() -> None:
