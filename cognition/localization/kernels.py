@@ -212,8 +212,15 @@ def log_likelihood_nb(
                 gx = px[i] + cs[i] * ox - sn[i] * oy
                 gy = py[i] + sn[i] * ox + cs[i] * oy
                 cell[i] = cls * plane + _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny)
+            # a loop of its own: inside the cell loop the compiler vectorized it differently in the fused
+            # frame (.frame_step) than here, and the two frames' evidence differed in the last bits
+            for i in range(n):  # vectorized: the centre circle's tangent at the placement (short lines)
                 cq[i] = -1e4
-                if arc:  # the centre circle's tangent at the placement: off the circle, and turned from it
+                if arc:  # off the circle, and turned from its tangent
+                    g = oa + th[i]
+                    g -= _PI * math.floor(g * _INV_PI)  # [0, pi), as above: the same sums to the bit
+                    gx = px[i] + cs[i] * ox - sn[i] * oy
+                    gy = py[i] + sn[i] * ox + cs[i] * oy
                     dr = (math.sqrt(gx * gx + gy * gy) - geo[5]) * inv_sr
                     dc = g - fast_atan2(gy, gx) - 0.5 * _PI
                     dc = (dc - _PI * math.floor(dc * _INV_PI + 0.5)) * inv_so
