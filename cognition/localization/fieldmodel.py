@@ -21,6 +21,9 @@ lines          M x 7            x1, y1, x2, y2, direction in [0, pi), orientatio
 marks          P x 2            penalty marks
 poles          Q x 2            corner poles (KidSize)
 cross_grid     3 x GY x GX      nearest crossing index per kind (-1: no crossing of the kind)
+partial_grid   3 x GY x GX      per seen kind, the nearest crossing that can look like it when
+                                seen in part (L: any crossing, T: T or X, X: X; -1: none), for
+                                ``LocalizationParams.partial_crossings``
 line_grid      2 x GY x GX      nearest line index per orientation class (-1: none)
 geo            12               grid x0, y0, cell, GX, GY, circle radius, half length, half width,
                                 the carpet's (the field plus its border strip) half length and half
@@ -85,16 +88,23 @@ class FieldModel:
         cy = y0 + (np.arange(gy) + 0.5) * CELL
         px, py = np.meshgrid(cx, cy)
         self.cross_grid = np.full((3, gy, gx), -1, dtype=np.int32)
-        for k in range(3):
-            idx = np.flatnonzero(self.crossings[:, 3] == k)
-            if idx.size:
-                d = np.stack([np.hypot(px - self.crossings[i, 0], py - self.crossings[i, 1]) for i in idx])
-                self.cross_grid[k] = idx[np.argmin(d, axis=0)]
+        self.partial_grid = np.full((3, gy, gx), -1, dtype=np.int32)
+        for k in range(3):  # seen in part, a crossing looks like a lesser kind: an X as a T, a T as an L
+            for grid, idx in (
+                (self.cross_grid, np.flatnonzero(self.crossings[:, 3] == k)),
+                (self.partial_grid, np.flatnonzero(self.crossings[:, 3] >= k)),
+            ):
+                if idx.size:
+                    d = np.stack([np.hypot(px - self.crossings[i, 0], py - self.crossings[i, 1]) for i in idx])
+                    grid[k] = idx[np.argmin(d, axis=0)]
         self.line_grid = np.full((2, gy, gx), -1, dtype=np.int32)
         for k in range(2):
             idx = np.flatnonzero(self.lines[:, 5] == k)
             if idx.size:
                 d = np.stack([_segment_distance(px, py, self.lines[i]) for i in idx])
                 self.line_grid[k] = idx[np.argmin(d, axis=0)]
-        for a in (self.posts, self.crossings, self.lines, self.marks, self.poles, self.cross_grid, self.line_grid):
+        for a in (
+            self.posts, self.crossings, self.lines, self.marks, self.poles, self.cross_grid, self.partial_grid,
+            self.line_grid,
+        ):  # fmt: skip
             a.setflags(write=False)

@@ -125,6 +125,23 @@ def _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny):  # pragma: no cover - compiled
     return int(fy) * nx + int(fx)
 
 
+@nb.njit(cache=True, inline="always")
+def _crossing_turn(seen: float, kind: float) -> tuple[float, float, float]:  # pragma: no cover - compiled
+    """How a crossing seen as ``seen`` turns against a map crossing of ``kind`` (0 L, 1 T, 2 X).
+
+    Returns (f, a, b): the orientation difference d counts as ``| |wrap(f (d - a))| / f - b |``.
+    The same kind: the full turn (L, T) or modulo 90 degrees (X). A T seen on an X (one arm not
+    seen): its stem is one of the X's arms, modulo 90 degrees. An L seen on an X: its bisector is
+    45 degrees from the X's lines, modulo 90. An L seen on a T (the stem and one half of the bar):
+    its bisector is 45 degrees to either side of the stem.
+    """
+    if kind == 2.0:
+        return 4.0, (0.25 * _PI if seen == 0.0 else 0.0), 0.0
+    if kind == 1.0 and seen == 0.0:
+        return 1.0, 0.0, 0.25 * _PI
+    return 1.0, 0.0, 0.0
+
+
 @nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def log_likelihood_nb(
     parts, n, obs, hough, posts, crossings, lines, marks, poles, cross_grid, line_grid, geo, out, scratch, w, obs_ev
@@ -150,6 +167,7 @@ def log_likelihood_nb(
     q, prod, acc, cs, sn = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     raw = np.empty(n)
     lx, ly, lo, lf = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    la, lb = np.empty(n), np.empty(n)
     cq = np.empty(n)
     for i in range(n):
         prod[i] = 1.0
@@ -195,13 +213,13 @@ def log_likelihood_nb(
                     gx = px[i] + cs[i] * ox - sn[i] * oy
                     gy = py[i] + sn[i] * ox + cs[i] * oy
                     cell[i] = _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny)
-                for i in range(n):  # gathers (scalar): the associated crossing
+                for i in range(n):  # gathers (scalar): the associated crossing, maybe of a larger kind
                     j = flat[cell[i]]
                     lx[i], ly[i], lo[i] = crossings[j, 0], crossings[j, 1], crossings[j, 2]
-                    lf[i] = 4.0 if crossings[j, 3] == 2 else 1.0  # X: orientation modulo 90 degrees
+                    lf[i], la[i], lb[i] = _crossing_turn(oa, crossings[j, 3])
                 for i in range(n):  # arithmetic (vectorized)
                     v = _q(px[i], py[i], th[i], lx[i], ly[i], dist, bear, inv_sr, inv_sb)
-                    do = wrap(lf[i] * (ob + th[i] - lo[i])) / lf[i] * inv_so
+                    do = (abs(wrap(lf[i] * (ob + th[i] - lo[i] - la[i])) / lf[i]) - lb[i]) * inv_so
                     q[i] = v - 0.5 * do * do
         elif t == 2 and hough[0] < 0.5:  # line: CMU nearest-point model (both classes exist)
             arc = obs[k, 13] * _SQRT12 <= geo[5]  # short enough to be a straight piece of the circle

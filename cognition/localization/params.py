@@ -19,6 +19,9 @@ corner_sigma_min           0.10 m          (0, 100]       CMU III.C.2: distance 
 corner_sigma_rate          0.25            [0, 10]        min + rate d
 corner_sigma_bearing       10 deg          (0, pi]        CMU III.C.2: bearing sd of crossings
 corner_sigma_orientation   10 deg          (0, pi]        CMU III.C.2: sd of the crossing's orientation
+partial_crossings          false           true/false     a crossing seen in part may be a larger one: a T an X,
+                                                          an L a T or an X (not in the paper;
+                                                          :mod:`~cognition.localization.sensor`)
 line_sigma_min             0.40 m          (0, 100]       CMU III.C.3: distance sd of the nearest line point is
 line_sigma_rate            0.5             [0, 10]        min + rate d
 line_sigma_bearing         30 deg          (0, pi]        CMU III.C.3
@@ -160,6 +163,7 @@ class LocalizationParams:
     corner_sigma_rate: float = 0.25
     corner_sigma_bearing: float = 10.0 * _DEG
     corner_sigma_orientation: float = 10.0 * _DEG
+    partial_crossings: bool = False
     line_sigma_min: float = 0.40
     line_sigma_rate: float = 0.5
     line_sigma_bearing: float = 30.0 * _DEG
