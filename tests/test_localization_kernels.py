@@ -156,7 +156,8 @@ def reference_log_likelihood(
         elif t == T.CIRCLE:
             q = _q(px, py, th, 0.0, 0.0, dist, bear, sr, sb)
         elif t == T.CROSS:
-            grid = (model.partial_grid if pf.params.partial_crossings else model.cross_grid)[int(oa)]
+            weight = pf.params.partial_crossings  # of a crossing seen in part (0: the same kind only)
+            grid = (model.partial_grid if weight > 0.0 else model.cross_grid)[int(oa)]
             j = grid[cells(*placed(ox, oy))]
             lx, ly, lo = model.crossings[j, 0], model.crossings[j, 1], model.crossings[j, 2]
             if pairs is not None:
@@ -167,6 +168,7 @@ def reference_log_likelihood(
             turns = np.abs(_wrap((ob + th - lo)[:, None] - offsets))
             do = np.nanmin(turns, axis=1) / so
             q = _q(px, py, th, lx, ly, dist, bear, sr, sb) - 0.5 * do * do
+            q = q + np.where(model.crossings[j, 3] == oa, 0.0, np.log(max(weight, 1e-300)))
         elif t == T.LINE:
             g = np.mod(oa + th, np.pi)
             cls = np.where(np.minimum(g, np.pi - g) <= 0.25 * np.pi, 0, 1)
@@ -209,8 +211,8 @@ def reference_log_likelihood(
     return total, edge
 
 
-@pytest.mark.parametrize("partial", [False, True], ids=["strict", "partial-crossings"])
-def test_the_sensor_update_equals_the_plain_sensor_models(recorded, partial: bool) -> None:
+@pytest.mark.parametrize("partial", [0.0, 0.3], ids=["strict", "partial-crossings"])
+def test_the_sensor_update_equals_the_plain_sensor_models(recorded, partial: float) -> None:
     params = LocalizationParams(partial_crossings=partial)
     pf = ParticleFilter("maturing", SPL, params, np.random.default_rng(0), 1, 1)
     kinds: set[int] = set()
@@ -222,6 +224,10 @@ def test_the_sensor_update_equals_the_plain_sensor_models(recorded, partial: boo
         if obs.shape[0] == 0:
             continue
         n = parts.shape[0]
+        obs = (
+            obs.copy()
+        )  # recorded with the default parameters: the crossings' weight of a partial view is this filter's
+        obs[obs[:, O.TYPE] == T.CROSS, O.PARTIAL] = math.log(partial) if partial > 0.0 else 0.0
         kinds |= set(obs[:, O.TYPE].astype(int).tolist())
         feet |= set(obs[obs[:, O.TYPE] == T.LINE, O.FOOT].tolist())
         ll, scratch = np.zeros_like(pf.ll_buffer), np.zeros_like(pf.scratch)
@@ -239,7 +245,7 @@ def test_the_sensor_update_equals_the_plain_sensor_models(recorded, partial: boo
     assert {int(T.POST), int(T.CROSS), int(T.LINE), int(T.CIRCLE)} <= kinds  # every map kind was exercised
     assert feet == {0.0, 1.0}  # both line models
     # crossings seen as a lesser kind are associated with larger ones only with the option
-    assert any(seen < kind for seen, kind in pairs) == partial, pairs
+    assert any(seen < kind for seen, kind in pairs) == (partial > 0.0), pairs
     # about 2 x 2e-4 m / 5 cm of each coordinate lies that near an edge: a few percent of particles
     assert skipped < 0.03 * compared and worst < 1e-3, (skipped, compared, worst)
 
@@ -386,9 +392,10 @@ def test_a_crossing_seen_in_part_is_explained_by_the_larger_crossing() -> None:
     percepts-vs-images, seed 1 of ``reset`` on images: that T, seen in most frames for half a
     second, was unexplained by the true pose, and the robot reset onto a penalty-area T, turned by
     160 degrees). A T may be an X, an L may be a T (its stem and one half of its bar) or an X, but
-    only in the directions the larger crossing's arms give (``partial_crossings``; without it, as
-    in the paper, only the same kind)."""
-    pf = ParticleFilter("maturing", SPL, LocalizationParams(partial_crossings=True), np.random.default_rng(0), 1, 1)
+    only in the directions the larger crossing's arms give (``partial_crossings`` w > 0, which
+    weighs a partial view w times a full one; with w = 0, as in the paper, only the same kind)."""
+    pf = ParticleFilter("maturing", SPL, LocalizationParams(partial_crossings=1.0), np.random.default_rng(0), 1, 1)
+    weighed = ParticleFilter("maturing", SPL, LocalizationParams(partial_crossings=0.1), np.random.default_rng(0), 1, 1)
     strict = ParticleFilter("maturing", SPL, LocalizationParams(), np.random.default_rng(0), 1, 1)
     x_at = next((c.x, c.y, c.orientation) for c in SPL.crossings if c.kind == "X")
     t_at = next((c.x, c.y, c.orientation) for c in SPL.crossings if c.kind == "T" and c.x < -4.0)
@@ -405,6 +412,7 @@ def test_a_crossing_seen_in_part_is_explained_by_the_larger_crossing() -> None:
         (t_at, 1, 0.0): True,  # the T itself
         (t_at, 2, 0.0): False,  # an X is never a T seen in part
     }
+    weighed_maps = (weighed.hough_params, *weighed.maps)
     for (at, kind, turn), explained in cases.items():
         pose = seen_from[at]
         ll, scratch = np.zeros(1), np.zeros((6, 1))
@@ -416,3 +424,8 @@ def test_a_crossing_seen_in_part_is_explained_by_the_larger_crossing() -> None:
             np.array([pose]), 1, obs, pf.hough_params, *strict.maps, ll, scratch, np.ones(1), np.zeros(1)
         )
         assert (scratch[5, 0] > -0.05) == (explained and kind == 1 and at is t_at)  # the paper: the same kind only
+        # a weight w < 1: a partial view counts w times a full one
+        obs_w = _crossing_row(pose, at[:2], kind, at[2] + turn, weighed)
+        K.log_likelihood_nb(np.array([pose]), 1, obs_w, *weighed_maps, ll, scratch, np.ones(1), np.zeros(1))
+        if explained:
+            assert scratch[5, 0] == pytest.approx(raw + (0.0 if kind == 1 and at is t_at else math.log(0.1)), abs=1e-9)

@@ -167,7 +167,7 @@ def log_likelihood_nb(
     q, prod, acc, cs, sn = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     raw = np.empty(n)
     lx, ly, lo, lf = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    la, lb = np.empty(n), np.empty(n)
+    la, lb, lp = np.empty(n), np.empty(n), np.empty(n)
     cq = np.empty(n)
     for i in range(n):
         prod[i] = 1.0
@@ -189,6 +189,7 @@ def log_likelihood_nb(
         dist, bear = obs[k, 14], obs[k, 15]
         inv_sr, inv_sb, inv_so = 1.0 / obs[k, 5], 1.0 / obs[k, 6], 1.0 / max(obs[k, 7], 1e-9)
         oa, ob = obs[k, 3], obs[k, 4]
+        partial = obs[k, 17]
         if t == 0:  # goal post: the most likely of its candidate posts
             for i in range(n):
                 q[i] = -1e4
@@ -217,10 +218,11 @@ def log_likelihood_nb(
                     j = flat[cell[i]]
                     lx[i], ly[i], lo[i] = crossings[j, 0], crossings[j, 1], crossings[j, 2]
                     lf[i], la[i], lb[i] = _crossing_turn(oa, crossings[j, 3])
+                    lp[i] = 0.0 if crossings[j, 3] == oa else partial  # a partial view's weight (log)
                 for i in range(n):  # arithmetic (vectorized)
                     v = _q(px[i], py[i], th[i], lx[i], ly[i], dist, bear, inv_sr, inv_sb)
                     do = (abs(wrap(lf[i] * (ob + th[i] - lo[i] - la[i])) / lf[i]) - lb[i]) * inv_so
-                    q[i] = v - 0.5 * do * do
+                    q[i] = v - 0.5 * do * do + lp[i]
         elif t == 2 and hough[0] < 0.5:  # line: CMU nearest-point model (both classes exist)
             arc = obs[k, 13] * _SQRT12 <= geo[5]  # short enough to be a straight piece of the circle
             for i in range(n):  # vectorized: the grid cell (row-major in the class's plane) of the placement

@@ -19,8 +19,9 @@ corner_sigma_min           0.10 m          (0, 100]       CMU III.C.2: distance 
 corner_sigma_rate          0.25            [0, 10]        min + rate d
 corner_sigma_bearing       10 deg          (0, pi]        CMU III.C.2: bearing sd of crossings
 corner_sigma_orientation   10 deg          (0, pi]        CMU III.C.2: sd of the crossing's orientation
-partial_crossings          false           true/false     a crossing seen in part may be a larger one: a T an X,
-                                                          an L a T or an X (not in the paper;
+partial_crossings          0               [0, 1]         weight of explaining a crossing seen as a lesser kind by a
+                                                          larger one (a T by an X, an L by a T or an X: seen in
+                                                          part); 0: never, as in the paper (not in the paper;
                                                           :mod:`~cognition.localization.sensor`)
 line_sigma_min             0.40 m          (0, 100]       CMU III.C.3: distance sd of the nearest line point is
 line_sigma_rate            0.5             [0, 10]        min + rate d
@@ -163,7 +164,7 @@ class LocalizationParams:
     corner_sigma_rate: float = 0.25
     corner_sigma_bearing: float = 10.0 * _DEG
     corner_sigma_orientation: float = 10.0 * _DEG
-    partial_crossings: bool = False
+    partial_crossings: float = 0.0
     line_sigma_min: float = 0.40
     line_sigma_rate: float = 0.5
     line_sigma_bearing: float = 30.0 * _DEG
@@ -231,6 +232,7 @@ class LocalizationParams:
         "corner_sigma_rate": non_negative(10.0),
         "corner_sigma_bearing": positive(math.pi),
         "corner_sigma_orientation": positive(math.pi),
+        "partial_crossings": PROBABILITY,
         "line_sigma_min": positive(100.0),
         "line_sigma_rate": non_negative(10.0),
         "line_sigma_bearing": positive(math.pi),

@@ -253,7 +253,7 @@ class ParticleFilter(Localizer):
         """The line model of the compiled sensor update: 1 for NimbRo's Hough model, then its sigmas."""
         self._table = sensor_table(p)
         m = self.model
-        grid = m.partial_grid if p.partial_crossings else m.cross_grid
+        grid = m.partial_grid if p.partial_crossings > 0.0 else m.cross_grid
         self.maps = (m.posts, m.crossings, m.lines, m.marks, m.poles, grid, m.line_grid, m.geo)
         """The map arrays of :attr:`model`, in the order the kernels take them (the crossing grid
         of the parameters' ``partial_crossings``)."""

@@ -10,11 +10,12 @@ the distance (CMU III.C tables, :mod:`cognition.localization.params`):
   restrict the candidates to one goal; the white SPL goals do not.
 * **crossings** (III.C.2): the nearest map crossing of the same type (grid lookup) and a
   Gaussian of the orientation difference (L and T: full turn, X: modulo 90 degrees). Not in the
-  paper, with ``partial_crossings`` (off by default): a crossing seen in part looks like a lesser
-  kind, so the nearest crossing may also be of a larger kind than the one seen, compared in the
+  paper, with ``partial_crossings`` w > 0: a crossing seen in part looks like a lesser kind, so
+  the nearest crossing may also be of a larger kind than the one seen, compared in the
   directions its arms give: a T with an X (the stem along one of its arms), an L with an X (the
   bisector in one of its right angles) or with a T (the stem and one half of the bar: the
-  bisector 45 degrees to either side of the stem). Vision reports the halfway line's X with the
+  bisector 45 degrees to either side of the stem); such a partial view counts w times the
+  likelihood of a full one (``O.PARTIAL`` holds log w). Vision reports the halfway line's X with the
   centre circle as a T when the circle's far arc is too thin to be seen; that T, unexplained by
   the true pose, reset an accurate estimate onto a penalty-area T (traced in the study
   ``percepts-vs-images``, ``reset`` on images, seed 1). The rule makes tracking more accurate
@@ -118,6 +119,9 @@ class O(IntEnum):  # noqa: E742 - short column enum used in kernels
     FOOT = 16
     """Lines: 1 when the observed segment holds the foot of the robot's perpendicular on its line
     (X, Y is that foot), 0 when the segment ends first (X, Y is its end nearer the robot)."""
+    PARTIAL = 17
+    """Crossings: log of the weight of explaining the crossing by a larger kind
+    (``partial_crossings``; 0 when off, where no larger kind is associated)."""
 
 
 N_O = len(O)
@@ -138,6 +142,7 @@ def sensor_table(p: LocalizationParams) -> NDArray[np.float64]:
             p.line_sigma_min, p.line_sigma_rate, p.line_sigma_bearing, p.line_sigma_orientation,
             p.circle_sigma_min, p.circle_sigma_rate, p.circle_sigma_bearing, 0.0 if p.field_lines else 1.0,
             p.mark_sigma_min, p.mark_sigma_rate, p.mark_sigma_bearing, 0.0,
+            math.log(p.partial_crossings) if p.partial_crossings > 0.0 else 0.0,
         ]
     )  # fmt: skip
 
@@ -204,7 +209,7 @@ def pack_nb(rows, offsets, tab, out):  # pragma: no cover - compiled
             sr, sb = _sig(tab, 8, adaptive, row, x, y)
             if not adaptive:
                 sb = tab[10]
-            out[k, 3], out[k, 4], out[k, 7] = row[9], row[8], tab[11]
+            out[k, 3], out[k, 4], out[k, 7], out[k, 17] = row[9], row[8], tab[11], tab[24]
         elif kind == 2:
             x1, y1, dx, dy = row[0], row[1], row[4] - row[0], row[5] - row[1]
             length = math.sqrt(dx * dx + dy * dy)
