@@ -396,7 +396,7 @@ def test_a_crossing_seen_in_part_is_explained_by_the_larger_crossing() -> None:
     weighs a partial view w times a full one; with w = 0, as in the paper, only the same kind)."""
     pf = ParticleFilter("maturing", SPL, LocalizationParams(partial_crossings=1.0), np.random.default_rng(0), 1, 1)
     weighed = ParticleFilter("maturing", SPL, LocalizationParams(partial_crossings=0.1), np.random.default_rng(0), 1, 1)
-    strict = ParticleFilter("maturing", SPL, LocalizationParams(), np.random.default_rng(0), 1, 1)
+    strict = ParticleFilter("maturing", SPL, LocalizationParams(partial_crossings=0.0), np.random.default_rng(0), 1, 1)
     x_at = next((c.x, c.y, c.orientation) for c in SPL.crossings if c.kind == "X")
     t_at = next((c.x, c.y, c.orientation) for c in SPL.crossings if c.kind == "T" and c.x < -4.0)
     seen_from = {x_at: (-2.1, -1.6, 0.7), t_at: (t_at[0] + 1.5, t_at[1] - 0.4, math.pi)}

@@ -19,7 +19,7 @@ corner_sigma_min           0.10 m          (0, 100]       CMU III.C.2: distance 
 corner_sigma_rate          0.25            [0, 10]        min + rate d
 corner_sigma_bearing       10 deg          (0, pi]        CMU III.C.2: bearing sd of crossings
 corner_sigma_orientation   10 deg          (0, pi]        CMU III.C.2: sd of the crossing's orientation
-partial_crossings          0               [0, 1]         weight of explaining a crossing seen as a lesser kind by a
+partial_crossings          0.1             [0, 1]         weight of explaining a crossing seen as a lesser kind by a
                                                           larger one (a T by an X, an L by a T or an X: seen in
                                                           part); 0: never, as in the paper (not in the paper;
                                                           :mod:`~cognition.localization.sensor`)
@@ -164,7 +164,7 @@ class LocalizationParams:
     corner_sigma_rate: float = 0.25
     corner_sigma_bearing: float = 10.0 * _DEG
     corner_sigma_orientation: float = 10.0 * _DEG
-    partial_crossings: float = 0.0
+    partial_crossings: float = 0.1
     line_sigma_min: float = 0.40
     line_sigma_rate: float = 0.5
     line_sigma_bearing: float = 30.0 * _DEG
