@@ -280,20 +280,29 @@ def test_the_fast_exponential_and_logarithm_are_within_two_ulp_of_numpy() -> Non
     assert out[0] == pytest.approx(math.log(2.2250738585072014e-308)) and out[1] == np.inf and np.isnan(out[2])
 
 
-def _line_row(pose: tuple[float, float, float], a: tuple[float, float], b: tuple[float, float], pf) -> np.ndarray:
-    """The observation row of the segment a-b (team frame, m) seen exactly from ``pose``."""
+def _packed_row(pose: tuple[float, float, float], kind: int, points: tuple, pf, **cols: float) -> np.ndarray:
+    """The observation row of one percept of ``kind`` (``Percepts`` kind index) seen exactly from
+    ``pose``: its ``points`` (team frame, m) go to the columns (0, 1), (4, 5), ``cols`` (``c8=...``)
+    to the others; packed with the filter's table."""
     from cognition.localization.sensor import pack_nb
     from cognition.percepts import N_COLS, N_KINDS
 
     x, y, th = pose
     c, s = math.cos(th), math.sin(th)
     rows = np.zeros((1, N_COLS))
-    for col, (px, py) in ((0, a), (4, b)):
+    for col, (px, py) in zip((0, 4), points, strict=False):
         rows[0, col], rows[0, col + 1] = c * (px - x) + s * (py - y), -s * (px - x) + c * (py - y)
-    offsets = np.array([0, 0, 0] + [1] * (N_KINDS - 1), dtype=np.int64)  # one row, of kind 2 (lines)
+    for name, value in cols.items():
+        rows[0, int(name[1:])] = value
+    offsets = np.array([0] * (kind + 1) + [1] * (N_KINDS - kind), dtype=np.int64)  # one row, of ``kind``
     out = np.zeros((1, len(O)))
     assert pack_nb(rows, offsets, pf._table, out) == 1
     return out
+
+
+def _line_row(pose: tuple[float, float, float], a: tuple[float, float], b: tuple[float, float], pf) -> np.ndarray:
+    """The observation row of the segment a-b (team frame, m) seen exactly from ``pose``."""
+    return _packed_row(pose, 2, (a, b), pf)
 
 
 def _seen_line_row(pose: tuple[float, float, float], a: tuple[float, float], b: tuple[float, float], pf) -> np.ndarray:
@@ -371,17 +380,7 @@ def _crossing_row(
 ) -> np.ndarray:
     """The observation row of a crossing of ``kind`` (0 L, 1 T, 2 X) at ``at`` whose orientation
     points to ``direction`` (team frame, rad), seen exactly from ``pose``."""
-    from cognition.localization.sensor import pack_nb
-    from cognition.percepts import N_COLS, N_KINDS
-
-    x, y, th = pose
-    c, s = math.cos(th), math.sin(th)
-    rows = np.zeros((1, N_COLS))
-    rows[0, 0], rows[0, 1] = c * (at[0] - x) + s * (at[1] - y), -s * (at[0] - x) + c * (at[1] - y)
-    rows[0, 8], rows[0, 9] = direction - th, float(kind)
-    offsets = np.array([0, 0] + [1] * N_KINDS, dtype=np.int64)  # one row, of kind 1 (crossings)
-    out = np.zeros((1, len(O)))
-    assert pack_nb(rows, offsets, pf._table, out) == 1
+    out = _packed_row(pose, 1, (at,), pf, c8=direction - pose[2], c9=float(kind))
     assert out[0, O.TYPE] == T.CROSS
     return out
 

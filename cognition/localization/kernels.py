@@ -126,20 +126,22 @@ def _flat_cell(gx, gy, x0, y0, inv_cell, nx, ny):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, inline="always")
-def _crossing_turn(seen: float, kind: float) -> tuple[float, float, float]:  # pragma: no cover - compiled
-    """How a crossing seen as ``seen`` turns against a map crossing of ``kind`` (0 L, 1 T, 2 X).
+def _crossing_turn(seen: float, kind: float, partial: float) -> tuple[float, float, float, float]:  # pragma: no cover
+    """How a crossing seen as ``seen`` compares with a map crossing of ``kind`` (0 L, 1 T, 2 X).
 
-    Returns (f, a, b): the orientation difference d counts as ``| |wrap(f (d - a))| / f - b |``.
-    The same kind: the full turn (L, T) or modulo 90 degrees (X). A T seen on an X (one arm not
-    seen): its stem is one of the X's arms, modulo 90 degrees. An L seen on an X: its bisector is
-    45 degrees from the X's lines, modulo 90. An L seen on a T (the stem and one half of the bar):
-    its bisector is 45 degrees to either side of the stem.
+    Returns (f, a, b, p): the orientation difference d counts as ``| |wrap(f (d - a))| / f - b |``,
+    and p is added to the log-likelihood. The same kind: the full turn (L, T) or modulo 90 degrees
+    (X), p = 0. A larger kind (a partial view) adds p = ``partial`` (log of its weight): a T seen
+    on an X (one arm not seen) has its stem along one of the X's arms, modulo 90 degrees; an L
+    seen on an X its bisector 45 degrees from the X's lines, modulo 90; an L seen on a T (the stem
+    and one half of the bar) its bisector 45 degrees to either side of the stem.
     """
+    p = 0.0 if kind == seen else partial
     if kind == 2.0:
-        return 4.0, (0.25 * _PI if seen == 0.0 else 0.0), 0.0
+        return 4.0, (0.25 * _PI if seen == 0.0 else 0.0), 0.0, p
     if kind == 1.0 and seen == 0.0:
-        return 1.0, 0.0, 0.25 * _PI
-    return 1.0, 0.0, 0.0
+        return 1.0, 0.0, 0.25 * _PI, p
+    return 1.0, 0.0, 0.0, p
 
 
 @nb.njit(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -217,8 +219,7 @@ def log_likelihood_nb(
                 for i in range(n):  # gathers (scalar): the associated crossing, maybe of a larger kind
                     j = flat[cell[i]]
                     lx[i], ly[i], lo[i] = crossings[j, 0], crossings[j, 1], crossings[j, 2]
-                    lf[i], la[i], lb[i] = _crossing_turn(oa, crossings[j, 3])
-                    lp[i] = 0.0 if crossings[j, 3] == oa else partial  # a partial view's weight (log)
+                    lf[i], la[i], lb[i], lp[i] = _crossing_turn(oa, crossings[j, 3], partial)
                 for i in range(n):  # arithmetic (vectorized)
                     v = _q(px[i], py[i], th[i], lx[i], ly[i], dist, bear, inv_sr, inv_sb)
                     do = (abs(wrap(lf[i] * (ob + th[i] - lo[i] - la[i])) / lf[i]) - lb[i]) * inv_so
